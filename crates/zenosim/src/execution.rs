@@ -1,0 +1,227 @@
+//! The record of a run: the hybrid time domain, the events, the Zeno points and the outcome
+//! (Ames et al. 2006, Definition 3, extended by the completed system's constrained intervals).
+
+use crate::error::Error;
+
+/// The set of active constraints (a bit set over constraint indices, at most 64 constraints).
+///
+/// Only one constraint is active at a time for now; the type is ready for several.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ActiveSet(u64);
+
+impl ActiveSet {
+    /// The largest number of constraints a model may have.
+    pub const CAPACITY: usize = 64;
+
+    /// No constraint active.
+    pub const fn empty() -> Self {
+        Self(0)
+    }
+
+    /// Only constraint `index` active.
+    pub const fn single(index: usize) -> Self {
+        Self(1 << index)
+    }
+
+    /// Whether no constraint is active.
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
+    /// Whether constraint `index` is active.
+    pub const fn contains(self, index: usize) -> bool {
+        self.0 & (1 << index) != 0
+    }
+
+    /// The number of active constraints.
+    pub const fn len(self) -> usize {
+        self.0.count_ones() as usize
+    }
+
+    /// The active constraint indices, in increasing order.
+    pub fn iter(self) -> impl Iterator<Item = usize> {
+        (0..Self::CAPACITY).filter(move |&i| self.contains(i))
+    }
+
+    /// The single active constraint, if exactly one is active.
+    pub fn only(self) -> Option<usize> {
+        (self.len() == 1).then(|| self.0.trailing_zeros() as usize)
+    }
+}
+
+/// The mode of a hybrid interval.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Free flight under the Euler–Lagrange equations of `L`.
+    Free,
+    /// Motion constrained to `h_i = 0` for the active constraints (the completed system `D∞`).
+    Constrained(ActiveSet),
+}
+
+impl Mode {
+    /// `"free"` or `"constrained"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Free => "free",
+            Mode::Constrained(_) => "constrained",
+        }
+    }
+}
+
+/// A point `(q, q̇)` of the state space.
+#[derive(Clone, Debug, PartialEq)]
+pub struct State {
+    /// The configuration.
+    pub q: Vec<f64>,
+    /// The velocities.
+    pub q_dot: Vec<f64>,
+}
+
+/// One interval `I_i = [τ_i, τ_{i+1}]` of the hybrid time domain and its mode.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HybridInterval {
+    /// `τ_i`.
+    pub start: f64,
+    /// `τ_{i+1}` (the stop time for the last interval).
+    pub end: f64,
+    /// The dynamics on this interval.
+    pub mode: Mode,
+}
+
+/// What happened at an event.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EventKind {
+    /// An impact: `q̇⁺ = P(q, q̇⁻)`.
+    Impact,
+    /// The switch to the constrained motion at (an approximation of) the Zeno point: `R∞`.
+    Zeno,
+    /// The contact force vanished (`λ` reached 0): back to free motion.
+    Liftoff,
+}
+
+impl EventKind {
+    /// `"impact"`, `"zeno"` or `"liftoff"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            EventKind::Impact => "impact",
+            EventKind::Zeno => "zeno",
+            EventKind::Liftoff => "liftoff",
+        }
+    }
+}
+
+/// A discrete transition, with the states just before and just after it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Event {
+    /// Its kind.
+    pub kind: EventKind,
+    /// When it happened.
+    pub t: f64,
+    /// The constraint involved.
+    pub constraint: usize,
+    /// The state just before.
+    pub before: State,
+    /// The state just after.
+    pub after: State,
+}
+
+/// The two kinds of Zeno execution (Ames et al. 2006, Section III).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ZenoKind {
+    /// Zero-length intervals from some impact on (e.g. `e = 0`, or a contact reached at rest).
+    Chattering,
+    /// Positive intervals shrinking geometrically (ratio → `e`).
+    Genuine,
+}
+
+impl ZenoKind {
+    /// `"chattering"` or `"genuine"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ZenoKind::Chattering => "chattering",
+            ZenoKind::Genuine => "genuine",
+        }
+    }
+}
+
+/// A Zeno point that the execution reached and passed (or stalled at, with `ZenoStrategy::Off`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ZenoPoint {
+    /// The constraint whose impacts accumulate.
+    pub constraint: usize,
+    /// Chattering or genuinely Zeno.
+    pub kind: ZenoKind,
+    /// When the simulation switched to the constrained motion (or stopped).
+    pub t_switch: f64,
+    /// The estimate of the Zeno time `τ∞`.
+    pub t_zeno: f64,
+    /// Impacts on this constraint in the accumulating sequence.
+    pub impacts: usize,
+    /// The measured ratio of the last two flight times (→ `e` for a genuine Zeno execution).
+    pub ratio: Option<f64>,
+    /// The state after `R∞` (or the last state reached, when stalled).
+    pub point: State,
+}
+
+/// How a run ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Outcome {
+    /// It reached the stop time.
+    Finished,
+    /// `ZenoStrategy::Off`: the plain hybrid system cannot go past the Zeno point.
+    ZenoStalled {
+        /// The constraint whose impacts accumulate.
+        constraint: usize,
+        /// The estimate of `τ∞`.
+        t_zeno: f64,
+    },
+    /// A numerical failure; everything up to it is kept.
+    Failed(Error),
+}
+
+/// Work counters of a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RunStats {
+    /// Accepted integration steps.
+    pub steps: u64,
+    /// Rejected integration steps.
+    pub rejected_steps: u64,
+    /// Evaluations of the right-hand side.
+    pub rhs_evals: u64,
+    /// Impacts applied.
+    pub impacts: u64,
+    /// Guard crossings rejected as spurious (`A q̇ > 0` at the root).
+    pub spurious_events: u64,
+}
+
+/// The execution `(Λ, J, C)` of the completed hybrid system, as far as it went.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Execution {
+    /// How the run ended.
+    pub outcome: Outcome,
+    /// The hybrid time domain: one interval per mode between events.
+    pub intervals: Vec<HybridInterval>,
+    /// Every event, in time order.
+    pub events: Vec<Event>,
+    /// Every Zeno point reached.
+    pub zeno: Vec<ZenoPoint>,
+    /// The last time reached.
+    pub t_final: f64,
+    /// The last state reached.
+    pub final_state: State,
+    /// The mode at the end.
+    pub final_mode: Mode,
+    /// Work counters.
+    pub stats: RunStats,
+}
+
+impl Execution {
+    /// The times of the impacts on constraint `index`.
+    pub fn impact_times(&self, index: usize) -> Vec<f64> {
+        self.events
+            .iter()
+            .filter(|e| e.kind == EventKind::Impact && e.constraint == index)
+            .map(|e| e.t)
+            .collect()
+    }
+}

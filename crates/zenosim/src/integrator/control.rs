@@ -1,0 +1,129 @@
+//! Step-size controller and initial step-size selection (HNW I, II.4).
+
+use super::kernels::{all_finite, eval, weighted_rms};
+use super::{Method, OdeSystem, Stats, Tolerances};
+
+/// Safety factor of the step-size controller.
+const SAFETY: f64 = 0.9;
+
+/// Step-size reduction applied after a failed or non-finite trial.
+pub(super) const FAILURE_SHRINK: f64 = 0.25;
+
+/// Per-method controller constants.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Control {
+    /// `1 / (q + 1)`, `q` the order of the error estimate.
+    expo: f64,
+    /// Smallest step ratio `h_new / h`.
+    fac_min: f64,
+    /// Largest step ratio `h_new / h`.
+    fac_max: f64,
+    /// Exponent denominator of the `hinit` formula (Hairer's `iord`).
+    hinit_order: f64,
+}
+
+impl Control {
+    /// Constants of Hairer's codes: DOP853 ratio in `[1/3, 6]` with exponent
+    /// 1/8, DOPRI5 ratio in `[1/5, 10]` with exponent 1/5.
+    pub(super) fn for_method(method: Method) -> Self {
+        match method {
+            Method::Dop853 => Self {
+                expo: 1.0 / 8.0,
+                fac_min: 1.0 / 3.0,
+                fac_max: 6.0,
+                hinit_order: 8.0,
+            },
+            Method::Dopri5 => Self {
+                expo: 1.0 / 5.0,
+                fac_min: 0.2,
+                fac_max: 10.0,
+                hinit_order: 5.0,
+            },
+        }
+    }
+
+    /// Step ratio after an accepted step with error norm `err <= 1`
+    /// (`err == 0` gives the largest ratio).
+    #[inline]
+    pub(super) fn accept_factor(&self, err: f64) -> f64 {
+        (SAFETY * err.powf(-self.expo)).clamp(self.fac_min, self.fac_max)
+    }
+
+    /// Step ratio after a trial rejected with error norm `err > 1` (< 0.9).
+    #[inline]
+    pub(super) fn reject_factor(&self, err: f64) -> f64 {
+        (SAFETY * err.powf(-self.expo)).max(self.fac_min)
+    }
+}
+
+/// Steps below this magnitude (at time `t`) are a step-size underflow.
+#[inline]
+pub(super) fn underflow_threshold(t: f64) -> f64 {
+    16.0 * f64::EPSILON * t.abs().max(1.0)
+}
+
+/// Why a trial step could not be used.
+pub(super) enum EvalFailure<E> {
+    /// The right-hand side returned an error.
+    Rhs(E),
+    /// A stage, the new state or the error estimate was not finite.
+    NonFinite,
+}
+
+/// Outcome of one trial step.
+pub(super) enum Trial<E> {
+    /// Error norm `<= 1`; the new state and its derivative are finite.
+    Accepted(f64),
+    /// Error norm `> 1`.
+    Rejected(f64),
+    /// The trial could not be completed.
+    Failed(EvalFailure<E>),
+}
+
+/// Hairer's `hinit` (HNW I, II.4, "Starting step size"), forward in time.
+///
+/// `f0 = f(t, y)`; `y1` and `f1` are scratch buffers. If the probe evaluation
+/// fails or is non-finite the first guess `h0` is returned instead.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn hinit<S: OdeSystem>(
+    sys: &mut S,
+    stats: &mut Stats,
+    control: &Control,
+    tol: Tolerances,
+    t: f64,
+    y: &[f64],
+    f0: &[f64],
+    y1: &mut [f64],
+    f1: &mut [f64],
+) -> f64 {
+    let (rtol, atol) = (tol.rtol, tol.atol);
+    let d0 = weighted_rms(y, y, rtol, atol);
+    let d1 = weighted_rms(f0, y, rtol, atol);
+    let h0 = if d0 < 1e-5 || d1 < 1e-5 {
+        1e-6
+    } else {
+        0.01 * d0 / d1
+    };
+    for ((y1i, &yi), &fi) in y1.iter_mut().zip(y).zip(f0) {
+        *y1i = yi + h0 * fi;
+    }
+    if eval(sys, stats, t + h0, y1, f1).is_err() || !all_finite(f1) {
+        return h0;
+    }
+    for (f1i, &fi) in f1.iter_mut().zip(f0) {
+        *f1i -= fi;
+    }
+    let d2 = weighted_rms(f1, y, rtol, atol) / h0;
+    let der = d1.max(d2);
+    let h1 = if der <= 1e-15 {
+        (h0 * 1e-3).max(1e-6)
+    } else {
+        (0.01 / der).powf(1.0 / control.hinit_order)
+    };
+    let h = (100.0 * h0).min(h1);
+    if h.is_finite() && h > 0.0 {
+        h
+    } else {
+        h0
+    }
+}

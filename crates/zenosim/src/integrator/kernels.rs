@@ -1,0 +1,98 @@
+//! Small fused vector kernels shared by the Runge–Kutta stage loops.
+//!
+//! The number of stage vectors `M` is a const generic, so after inlining the
+//! inner sum is fully unrolled; every slice is re-sliced to the output length
+//! first so that the element loop carries no bounds checks.
+
+use super::{OdeSystem, Stats};
+
+/// `out = y + h * sum_j a[j] * k[j]` (an explicit Runge–Kutta stage argument).
+#[inline(always)]
+pub(super) fn stage<const M: usize>(
+    out: &mut [f64],
+    y: &[f64],
+    h: f64,
+    a: [f64; M],
+    k: [&[f64]; M],
+) {
+    let n = out.len();
+    let y = &y[..n];
+    let k = k.map(|s| &s[..n]);
+    for (i, (o, &yi)) in out.iter_mut().zip(y).enumerate() {
+        let mut acc = 0.0;
+        for (&aj, kj) in a.iter().zip(k.iter()) {
+            acc += aj * kj[i];
+        }
+        *o = yi + h * acc;
+    }
+}
+
+/// `out = h * sum_j a[j] * k[j]`.
+#[inline(always)]
+pub(super) fn combine<const M: usize>(out: &mut [f64], h: f64, a: [f64; M], k: [&[f64]; M]) {
+    let n = out.len();
+    let k = k.map(|s| &s[..n]);
+    for (i, o) in out.iter_mut().enumerate() {
+        let mut acc = 0.0;
+        for (&aj, kj) in a.iter().zip(k.iter()) {
+            acc += aj * kj[i];
+        }
+        *o = h * acc;
+    }
+}
+
+/// Hermite part of the continuous extensions (II.6): with `diff = y1 - y0`,
+/// writes `diff`, `bspl = h f0 - diff` and `diff - h f1 - bspl`.
+#[inline]
+pub(super) fn hermite_parts(
+    [c_diff, c_bspl, c_third]: [&mut [f64]; 3],
+    h: f64,
+    y0: &[f64],
+    y1: &[f64],
+    f0: &[f64],
+    f1: &[f64],
+) {
+    let n = c_diff.len();
+    let (c_bspl, c_third) = (&mut c_bspl[..n], &mut c_third[..n]);
+    let (y0, y1, f0, f1) = (&y0[..n], &y1[..n], &f0[..n], &f1[..n]);
+    for i in 0..n {
+        let diff = y1[i] - y0[i];
+        let bspl = h * f0[i] - diff;
+        c_diff[i] = diff;
+        c_bspl[i] = bspl;
+        c_third[i] = diff - h * f1[i] - bspl;
+    }
+}
+
+/// `true` when every entry is finite.
+#[inline]
+pub(super) fn all_finite(x: &[f64]) -> bool {
+    x.iter().all(|v| v.is_finite())
+}
+
+/// Calls the right-hand side and counts the call.
+#[inline(always)]
+pub(super) fn eval<S: OdeSystem>(
+    sys: &mut S,
+    stats: &mut Stats,
+    t: f64,
+    y: &[f64],
+    dy: &mut [f64],
+) -> Result<(), S::Error> {
+    stats.rhs_evals += 1;
+    sys.rhs(t, y, dy)
+}
+
+/// Weighted RMS norm `sqrt(mean((x_i / (atol + rtol |y_i|))^2))` (used by hinit).
+#[inline]
+pub(super) fn weighted_rms(x: &[f64], y: &[f64], rtol: f64, atol: f64) -> f64 {
+    let sum: f64 = x
+        .iter()
+        .zip(y)
+        .map(|(&xi, &yi)| {
+            let r = xi / (atol + rtol * yi.abs());
+            r * r
+        })
+        .sum();
+    (sum / x.len() as f64).sqrt()
+}

@@ -1,0 +1,293 @@
+//! The [`Stepper`]: state, step loop with error control, dense-output dispatch.
+
+use super::control::{hinit, underflow_threshold, Control, EvalFailure, Trial, FAILURE_SHRINK};
+use super::kernels::{all_finite, eval};
+use super::{dop853, dopri5, Method, OdeSystem, Stats, StepError, Tolerances};
+
+/// Method-specific work buffers (one per stepper, so the size difference of
+/// the variants does not matter and boxing would only add an indirection).
+#[allow(clippy::large_enum_variant)]
+pub(super) enum Work {
+    Dop853(dop853::Work),
+    Dopri5(dopri5::Work),
+}
+
+/// State of the continuous extension of the last accepted step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Dense {
+    /// Prepared (or the "last step" has length zero after a (re)start).
+    Ready,
+    /// The step's stages are intact; `prepare_dense` can build it.
+    Pending,
+    /// The stages were overwritten by the trials of a failed `step`.
+    Lost,
+}
+
+/// Adaptive explicit Runge–Kutta stepper with dense output (HNW I, II.4–II.6).
+///
+/// Owns every work buffer (allocated only in [`Stepper::new`]). Use:
+/// [`start`](Stepper::start), then repeatedly [`step`](Stepper::step); the last
+/// accepted step is `[t_previous(), t()]`, and after
+/// [`prepare_dense`](Stepper::prepare_dense) it can be evaluated anywhere in
+/// between with [`interpolate`](Stepper::interpolate). Integration backwards in
+/// time works by passing a `t_stop < t()`.
+pub struct Stepper {
+    pub(super) method: Method,
+    pub(super) control: Control,
+    pub(super) tol: Tolerances,
+    pub(super) work: Work,
+    pub(super) started: bool,
+    pub(super) dense: Dense,
+    pub(super) t: f64,
+    pub(super) t_prev: f64,
+    /// Signed size of the last accepted step (0 after a (re)start).
+    pub(super) h_last: f64,
+    /// Proposed magnitude of the next step.
+    pub(super) h_next: f64,
+    pub(super) y: Vec<f64>,
+    pub(super) dy: Vec<f64>,
+    pub(super) y_prev: Vec<f64>,
+    pub(super) dy_prev: Vec<f64>,
+    pub(super) y_new: Vec<f64>,
+    pub(super) scratch: Vec<f64>,
+    pub(super) stats: Stats,
+}
+
+impl Stepper {
+    /// Allocates a stepper for systems of the given dimension.
+    ///
+    /// # Panics
+    /// If `dimension == 0`, or a tolerance is negative or not finite, or both are 0.
+    pub fn new(method: Method, dimension: usize, tolerances: Tolerances) -> Self {
+        let Tolerances { rtol, atol } = tolerances;
+        assert!(dimension > 0, "Stepper::new: dimension must be positive");
+        assert!(
+            rtol.is_finite() && atol.is_finite() && rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0,
+            "Stepper::new: invalid tolerances {tolerances:?}"
+        );
+        let n = dimension;
+        let work = match method {
+            Method::Dop853 => Work::Dop853(dop853::Work::new(n)),
+            Method::Dopri5 => Work::Dopri5(dopri5::Work::new(n)),
+        };
+        Self {
+            method,
+            control: Control::for_method(method),
+            tol: tolerances,
+            work,
+            started: false,
+            dense: Dense::Ready,
+            t: 0.0,
+            t_prev: 0.0,
+            h_last: 0.0,
+            h_next: 0.0,
+            y: vec![0.0; n],
+            dy: vec![0.0; n],
+            y_prev: vec![0.0; n],
+            dy_prev: vec![0.0; n],
+            y_new: vec![0.0; n],
+            scratch: vec![0.0; n],
+            stats: Stats::default(),
+        }
+    }
+
+    /// (Re)start at (t, y): evaluates f(t, y); the first step is `h_hint` if given, else chosen by hinit. Keeps the statistics.
+    ///
+    /// A hint that is zero or not finite is ignored; only its magnitude is used.
+    /// `hinit` (HNW I, II.4) probes forward in time and costs one more
+    /// evaluation; if that probe fails, its first guess is used. Afterwards
+    /// `t_previous() == t()` and the "last step" has length zero.
+    ///
+    /// # Panics
+    /// If `y.len()` or `sys.dimension()` differs from the stepper's dimension,
+    /// or `t` is not finite.
+    pub fn start<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        y: &[f64],
+        h_hint: Option<f64>,
+    ) -> Result<(), StepError<S::Error>> {
+        assert_eq!(y.len(), self.y.len(), "Stepper::start: wrong state length");
+        assert_eq!(
+            sys.dimension(),
+            self.y.len(),
+            "Stepper::start: wrong system dimension"
+        );
+        assert!(t.is_finite(), "Stepper::start: t must be finite");
+        self.started = false;
+        self.t = t;
+        self.y.copy_from_slice(y);
+        eval(sys, &mut self.stats, t, &self.y, &mut self.dy)
+            .map_err(|source| StepError::Rhs { t, source })?;
+        if !all_finite(&self.y) || !all_finite(&self.dy) {
+            return Err(StepError::NonFinite { t });
+        }
+        self.h_next = match h_hint {
+            Some(h) if h.is_finite() && h != 0.0 => h.abs(),
+            _ => hinit(
+                sys,
+                &mut self.stats,
+                &self.control,
+                self.tol,
+                t,
+                &self.y,
+                &self.dy,
+                &mut self.y_new,
+                &mut self.scratch,
+            ),
+        };
+        self.restart_here();
+        self.started = true;
+        Ok(())
+    }
+
+    /// Replace the current state (same t) after an external projection; re-evaluates f; keeps the step size.
+    ///
+    /// Like [`start`](Stepper::start) it makes the last step degenerate
+    /// (`t_previous() == t()`). On error the stepper is left unchanged.
+    ///
+    /// # Panics
+    /// If the stepper was not started or `y` has the wrong length.
+    pub fn replace_state<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        y: &[f64],
+    ) -> Result<(), StepError<S::Error>> {
+        assert!(
+            self.started,
+            "Stepper::replace_state before a successful start"
+        );
+        assert_eq!(
+            y.len(),
+            self.y.len(),
+            "Stepper::replace_state: wrong state length"
+        );
+        let t = self.t;
+        self.y_new.copy_from_slice(y);
+        eval(sys, &mut self.stats, t, &self.y_new, &mut self.scratch)
+            .map_err(|source| StepError::Rhs { t, source })?;
+        if !all_finite(&self.y_new) || !all_finite(&self.scratch) {
+            return Err(StepError::NonFinite { t });
+        }
+        std::mem::swap(&mut self.y, &mut self.y_new);
+        std::mem::swap(&mut self.dy, &mut self.scratch);
+        self.restart_here();
+        Ok(())
+    }
+
+    /// Take one accepted step of size at most h_max that never goes past t_stop (lands exactly on t_stop when it would pass it).
+    /// Rejected trials are retried internally. A rhs error or non-finite values during a trial count as a rejection (h *= 0.25);
+    /// the error is returned only when h underflows (h < 16*EPS*max(|t|,1)).
+    ///
+    /// The direction of integration is the sign of `t_stop - t()`; `t_stop`
+    /// may be infinite, and `t_stop == t()` is a no-op. A step within 1% of the
+    /// remaining distance (and not longer than `h_max`) is stretched to land on
+    /// `t_stop`. The landing step itself is exempt from the underflow test, so
+    /// a `t_stop` arbitrarily close to `t()` can be reached. On error the
+    /// state is unchanged (the continuous extension of the previous step
+    /// survives only if it had been prepared).
+    ///
+    /// # Panics
+    /// If the stepper was not started, `h_max` is not positive, or `t_stop` is NaN.
+    pub fn step<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t_stop: f64,
+        h_max: f64,
+    ) -> Result<(), StepError<S::Error>> {
+        assert!(self.started, "Stepper::step before a successful start");
+        assert!(h_max > 0.0, "Stepper::step: h_max must be positive");
+        assert!(!t_stop.is_nan(), "Stepper::step: t_stop is NaN");
+        debug_assert_eq!(sys.dimension(), self.y.len());
+        let span = t_stop - self.t;
+        if span == 0.0 {
+            return Ok(());
+        }
+        let dir = span.signum();
+        let dist = span.abs();
+        if self.dense == Dense::Pending {
+            self.dense = Dense::Lost;
+        }
+        match &mut self.work {
+            Work::Dop853(w) => w.k[0].copy_from_slice(&self.dy),
+            Work::Dopri5(w) => w.k[0].copy_from_slice(&self.dy),
+        }
+        let proposal = self.h_next;
+        let mut h = proposal.min(h_max);
+        let mut rejected = false;
+        let mut last_failure = None;
+        loop {
+            let landing = h >= dist || (1.01 * h >= dist && dist <= h_max);
+            let h_abs = if landing { dist } else { h };
+            if !landing && h_abs < underflow_threshold(self.t) {
+                let t = self.t;
+                return Err(match last_failure {
+                    Some(EvalFailure::Rhs(source)) => StepError::Rhs { t, source },
+                    Some(EvalFailure::NonFinite) => StepError::NonFinite { t },
+                    None => StepError::StepSizeUnderflow { t, h: h_abs },
+                });
+            }
+            let hs = dir * h_abs;
+            let t_end = if landing { t_stop } else { self.t + hs };
+            let (t, tol, y, y_new) = (self.t, self.tol, &self.y[..], &mut self.y_new[..]);
+            let stats = &mut self.stats;
+            let outcome = match &mut self.work {
+                Work::Dop853(w) => dop853::trial(w, sys, stats, tol, t, hs, t_end, y, y_new),
+                Work::Dopri5(w) => dopri5::trial(w, sys, stats, tol, t, hs, t_end, y, y_new),
+            };
+            match outcome {
+                Trial::Accepted(err) => {
+                    let mut fac = self.control.accept_factor(err);
+                    if rejected {
+                        fac = fac.min(1.0);
+                    }
+                    let mut h_new = h_abs * fac;
+                    if !rejected && h_abs < proposal {
+                        // Shortened by t_stop or h_max only: keep the proposal.
+                        h_new = h_new.max(proposal);
+                    }
+                    self.accept(t_end, hs, h_new.min(f64::MAX));
+                    return Ok(());
+                }
+                Trial::Rejected(err) => {
+                    h = h_abs * self.control.reject_factor(err);
+                    last_failure = None;
+                }
+                Trial::Failed(failure) => {
+                    h = h_abs * FAILURE_SHRINK;
+                    last_failure = Some(failure);
+                }
+            }
+            self.stats.rejected_steps += 1;
+            rejected = true;
+        }
+    }
+
+    /// Commits the trial in `y_new` / the FSAL stage as the new state.
+    #[inline]
+    fn accept(&mut self, t_end: f64, hs: f64, h_next: f64) {
+        self.stats.steps += 1;
+        self.t_prev = self.t;
+        self.t = t_end;
+        self.h_last = hs;
+        self.h_next = h_next;
+        std::mem::swap(&mut self.y_prev, &mut self.y);
+        std::mem::swap(&mut self.y, &mut self.y_new);
+        std::mem::swap(&mut self.dy_prev, &mut self.dy);
+        match &self.work {
+            Work::Dop853(w) => self.dy.copy_from_slice(&w.k[dop853::FSAL]),
+            Work::Dopri5(w) => self.dy.copy_from_slice(&w.k[dopri5::FSAL]),
+        }
+        self.dense = Dense::Pending;
+    }
+
+    /// Makes the current state the (zero-length) last step.
+    fn restart_here(&mut self) {
+        self.t_prev = self.t;
+        self.y_prev.copy_from_slice(&self.y);
+        self.dy_prev.copy_from_slice(&self.dy);
+        self.h_last = 0.0;
+        self.dense = Dense::Ready;
+    }
+}

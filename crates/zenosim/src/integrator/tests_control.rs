@@ -1,0 +1,293 @@
+//! Tests of the step loop: stopping times, step limits, work counters,
+//! failing and non-finite right-hand sides, restarts.
+
+use super::tests_support::{
+    integrate, FailAfter, Linear, Oscillator, RefuseNegative, Refused, Riccati, METHODS,
+};
+use super::{Method, StepError, Stepper, Tolerances};
+
+#[test]
+fn steps_never_pass_t_stop_and_respect_h_max() {
+    for method in METHODS {
+        let mut sys = Oscillator { calls: 0 };
+        let mut st = Stepper::new(
+            method,
+            2,
+            Tolerances {
+                rtol: 1e-8,
+                atol: 1e-8,
+            },
+        );
+        st.start(&mut sys, 0.0, &[1.0, 0.0], None).unwrap();
+        let stops = [0.013, 0.5, 0.5 + 1e-13, 1.7, 1.7000001, 3.0, 10.0];
+        let h_max = 0.3;
+        for &t_stop in &stops {
+            while st.t() < t_stop {
+                let before = st.t();
+                st.step(&mut sys, t_stop, h_max).unwrap();
+                assert!(st.t() <= t_stop, "{method:?}: passed {t_stop}");
+                assert_eq!(st.t_previous(), before);
+                // At most h_max, up to the rounding of t + h.
+                let slack = 2.0 * f64::EPSILON * st.t().abs();
+                assert!(
+                    st.t() - before <= h_max + slack,
+                    "{method:?}: step longer than h_max"
+                );
+            }
+            assert_eq!(st.t(), t_stop, "{method:?}: must land exactly on t_stop");
+        }
+        // t_stop == t is a no-op.
+        let stats = st.stats();
+        st.step(&mut sys, 10.0, h_max).unwrap();
+        assert_eq!((st.t(), st.stats()), (10.0, stats));
+        // The controller's proposal survives the shortened landing steps.
+        assert!(
+            st.suggested_step() > 0.05,
+            "{method:?}: {}",
+            st.suggested_step()
+        );
+    }
+}
+
+#[test]
+fn backward_integration_lands_on_t_stop() {
+    // y' = y from y(1) = e back to t = 0: y(0) = 1 (closed form).
+    for method in METHODS {
+        let mut sys = Linear::new(1.0);
+        let st = integrate(
+            method,
+            Tolerances::default(),
+            &mut sys,
+            1.0,
+            &[std::f64::consts::E],
+            0.0,
+        )
+        .unwrap();
+        assert_eq!(st.t(), 0.0);
+        assert!((st.y()[0] - 1.0).abs() < 1e-9, "{method:?}: {}", st.y()[0]);
+    }
+}
+
+#[test]
+fn statistics_count_steps_rejections_and_evaluations() {
+    // y' = -50 y with a far too large first step (hint 1): rejections happen.
+    // Per trial DOPRI5 evaluates 6 times; DOP853 11 times plus the FSAL stage
+    // f(t + h, y_new) on acceptance; start costs 1 (+1 for hinit).
+    for method in METHODS {
+        let mut sys = Linear::new(-50.0);
+        let mut st = Stepper::new(
+            method,
+            1,
+            Tolerances {
+                rtol: 1e-9,
+                atol: 1e-12,
+            },
+        );
+        st.start(&mut sys, 0.0, &[1.0], Some(1.0)).unwrap();
+        let mut dense_calls = 0;
+        while st.t() < 1.0 {
+            st.step(&mut sys, 1.0, f64::INFINITY).unwrap();
+            st.prepare_dense(&mut sys).unwrap();
+            st.prepare_dense(&mut sys).unwrap(); // at most once per step
+            dense_calls += 1;
+        }
+        let s = st.stats();
+        assert!(
+            s.rejected_steps > 0,
+            "{method:?}: the large hint must be rejected"
+        );
+        assert_eq!(s.rhs_evals, sys.calls, "{method:?}: counted evaluations");
+        let expected = match method {
+            Method::Dop853 => 1 + 12 * s.steps + 11 * s.rejected_steps + 3 * dense_calls,
+            Method::Dopri5 => 1 + 6 * (s.steps + s.rejected_steps),
+        };
+        assert_eq!(s.rhs_evals, expected, "{method:?}: {s:?}");
+        assert_eq!(s.steps, dense_calls);
+
+        // A restart keeps the statistics; hinit costs one probe evaluation.
+        st.start(&mut sys, 0.0, &[1.0], None).unwrap();
+        assert_eq!(st.stats().rhs_evals, expected + 2);
+        assert_eq!(st.stats().steps, s.steps);
+        assert!(st.suggested_step() > 0.0 && st.suggested_step() < 1.0);
+    }
+}
+
+#[test]
+fn refused_evaluations_shrink_the_step_and_integration_succeeds() {
+    // y' = -y, y(0) = 1 refuses y < 0; the solution exp(-t) stays positive.
+    // (atol is negligible so that the relative error is controlled down to exp(-20).)
+    for method in METHODS {
+        let mut sys = RefuseNegative {
+            refusals: 0,
+            calls: 0,
+        };
+        let mut st = Stepper::new(
+            method,
+            1,
+            Tolerances {
+                rtol: 1e-10,
+                atol: 1e-30,
+            },
+        );
+        st.start(&mut sys, 0.0, &[1.0], Some(50.0)).unwrap();
+        while st.t() < 20.0 {
+            st.step(&mut sys, 20.0, f64::INFINITY).unwrap();
+        }
+        let exact = (-20.0f64).exp();
+        assert!(
+            sys.refusals > 0,
+            "{method:?}: the test must exercise refusals"
+        );
+        assert!(st.stats().rejected_steps >= sys.refusals);
+        assert_eq!(st.stats().rhs_evals, sys.calls);
+        let rel = (st.y()[0] - exact).abs() / exact;
+        eprintln!(
+            "{method:?}: {} refusals, relative error {rel:.1e}, {:?}",
+            sys.refusals,
+            st.stats()
+        );
+        assert!(rel < 5e-9, "{method:?}: relative error {rel:e}");
+    }
+}
+
+#[test]
+fn persistently_failing_rhs_returns_rhs_error() {
+    for method in METHODS {
+        // Fails everywhere: already at the start.
+        let mut sys = FailAfter {
+            after: f64::NEG_INFINITY,
+            calls: 0,
+        };
+        let mut st = Stepper::new(method, 1, Tolerances::default());
+        let r = st.start(&mut sys, 0.0, &[0.0], None);
+        assert!(
+            matches!(
+                r,
+                Err(StepError::Rhs {
+                    t: 0.0,
+                    source: Refused
+                })
+            ),
+            "{r:?}"
+        );
+
+        // Fails for every t > 0: the step shrinks to underflow, then reports Rhs.
+        let mut sys = FailAfter {
+            after: 0.0,
+            calls: 0,
+        };
+        st.start(&mut sys, 0.0, &[0.0], None).unwrap();
+        let r = st.step(&mut sys, 1.0, f64::INFINITY);
+        assert!(
+            matches!(
+                r,
+                Err(StepError::Rhs {
+                    t: 0.0,
+                    source: Refused
+                })
+            ),
+            "{r:?}"
+        );
+        assert_eq!(st.t(), 0.0);
+        assert!(sys.calls < 200, "{method:?}: {} calls", sys.calls);
+        let message = r.unwrap_err();
+        let source = std::error::Error::source(&message).map(|e| e.to_string());
+        assert_eq!(source.as_deref(), Some("refused"));
+    }
+}
+
+#[test]
+fn blow_up_returns_an_error_and_never_hangs() {
+    // y' = y^2, y(0) = 1: y = 1 / (1 - t) blows up at t = 1 < t_stop = 2.
+    for method in METHODS {
+        let mut sys = Riccati { calls: 0 };
+        let mut st = Stepper::new(method, 1, Tolerances::default());
+        st.start(&mut sys, 0.0, &[1.0], None).unwrap();
+        let mut outcome = None;
+        for _ in 0..100_000 {
+            if let Err(e) = st.step(&mut sys, 2.0, f64::INFINITY) {
+                outcome = Some(e);
+                break;
+            }
+        }
+        eprintln!(
+            "{method:?}: {outcome:?} after {:?}, y = {:e}",
+            st.stats(),
+            st.y()[0]
+        );
+        assert!(
+            matches!(
+                outcome,
+                Some(StepError::StepSizeUnderflow { .. } | StepError::NonFinite { .. })
+            ),
+            "{method:?}: {outcome:?}"
+        );
+        // The numerical solution has its own pole, within O(tol) of t = 1.
+        assert!(
+            (st.t() - 1.0).abs() < 1e-6,
+            "{method:?}: stopped at {}",
+            st.t()
+        );
+    }
+}
+
+#[test]
+fn replace_state_reevaluates_and_keeps_step_size() {
+    for method in METHODS {
+        let mut sys = Oscillator { calls: 0 };
+        let mut st = Stepper::new(method, 2, Tolerances::default());
+        st.start(&mut sys, 0.0, &[1.0, 0.0], None).unwrap();
+        st.step(&mut sys, 1.0, f64::INFINITY).unwrap();
+        st.step(&mut sys, 1.0, f64::INFINITY).unwrap();
+        let (t, h, calls) = (st.t(), st.suggested_step(), sys.calls);
+        st.replace_state(&mut sys, &[0.5, 0.25]).unwrap();
+        assert_eq!(sys.calls, calls + 1);
+        assert_eq!((st.t(), st.t_previous(), st.suggested_step()), (t, t, h));
+        assert_eq!((st.y(), st.dy()), (&[0.5, 0.25][..], &[0.25, -0.5][..]));
+        let mut out = [0.0; 2];
+        st.interpolate(t, &mut out);
+        assert_eq!(out, [0.5, 0.25]);
+        st.step(&mut sys, 1.0, f64::INFINITY).unwrap();
+        assert_eq!(st.y_previous(), &[0.5, 0.25]);
+    }
+}
+
+#[test]
+#[should_panic(expected = "prepare_dense")]
+fn interpolate_without_prepare_dense_panics() {
+    let mut sys = Oscillator { calls: 0 };
+    let mut st = Stepper::new(Method::default(), 2, Tolerances::default());
+    st.start(&mut sys, 0.0, &[1.0, 0.0], None).unwrap();
+    st.step(&mut sys, 1.0, f64::INFINITY).unwrap();
+    st.interpolate(st.t(), &mut [0.0; 2]);
+}
+
+#[test]
+fn failed_step_keeps_state_and_prepared_dense_output() {
+    // y' = 1 (solution y = t) failing for t > 0.5.
+    for method in METHODS {
+        let mut sys = FailAfter {
+            after: 0.5,
+            calls: 0,
+        };
+        let mut st = Stepper::new(method, 1, Tolerances::default());
+        st.start(&mut sys, 0.0, &[0.0], None).unwrap();
+        while st.t() < 0.5 {
+            st.step(&mut sys, 0.5, 0.2).unwrap();
+        }
+        st.prepare_dense(&mut sys).unwrap();
+        let (t0, y1, stats) = (st.t_previous(), st.y()[0], st.stats());
+        assert!(matches!(
+            st.step(&mut sys, 1.0, 0.2),
+            Err(StepError::Rhs { t: 0.5, .. })
+        ));
+        assert_eq!(
+            (st.t(), st.y(), st.t_previous(), st.stats().steps),
+            (0.5, &[y1][..], t0, stats.steps)
+        );
+        let mut out = [0.0];
+        let mid = 0.5 * (t0 + 0.5);
+        st.interpolate(mid, &mut out);
+        assert!((out[0] - mid).abs() < 1e-15, "{method:?}: {}", out[0]);
+    }
+}

@@ -1,0 +1,50 @@
+//! # zenosim
+//!
+//! Simulates Lagrangian hybrid systems with impacts and carries their executions through Zeno
+//! points and on past them (Ames, Zheng, Gregg, Sastry, "Is there Life after Zeno?", 2006).
+//!
+//! A model is a hybrid Lagrangian `(Q, L, h)` with restitution `e` ([`HybridLagrangian`]); from
+//! `L` and `h` alone, by automatic differentiation, zenosim derives
+//! - the free motion `M q̈ = ∂L/∂q − (∂²L/∂q̇∂q) q̇`, `M = ∂²L/∂q̇²`, on `h(q) ≥ 0`;
+//! - the impacts on `h = 0, A q̇ ≤ 0`, `A = ∂h/∂q`:
+//!   `q̇⁺ = q̇ − (1+e) (A q̇)/(A M⁻¹ Aᵀ) M⁻¹ Aᵀ`;
+//! - after a Zeno point, the motion constrained to `h = 0`:
+//!   `M q̈ = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − Aᵀ λ`, `λ = (A M⁻¹ Aᵀ)⁻¹ (A M⁻¹ f + Ȧ q̇)`
+//!   (the paper prints `A q̇` for `Ȧ q̇`; this is the corrected form), left again when the
+//!   contact force `−Aᵀλ` would have to pull (`λ > 0`).
+//!
+//! Principal types:
+//! - [`HybridLagrangian`], [`Constraint`], [`Scalar`]: what a user writes;
+//! - [`Simulation`] with [`SimulationOptions`] ([`ZenoStrategy`], [`Completion`], [`OutputGrid`]):
+//!   a run, checked before it starts;
+//! - [`Execution`]: the record (hybrid time domain, [`Event`]s, [`ZenoPoint`]s, [`Outcome`]);
+//! - [`Observer`], [`Sample`], [`Trajectory`]: the trajectory, streamed as it is computed;
+//! - [`integrator::Stepper`]: the Runge–Kutta pairs (DOP853, DOPRI5) with dense output;
+//! - [`models`]: the paper's examples, written in Rust.
+
+mod derivatives;
+mod error;
+mod events;
+mod execution;
+pub mod integrator;
+mod mechanics;
+mod model;
+pub mod models;
+mod observer;
+mod options;
+mod runner;
+mod simulation;
+mod zeno;
+
+pub use derivatives::MAX_DIMENSION;
+pub use error::Error;
+pub use execution::{
+    ActiveSet, Event, EventKind, Execution, HybridInterval, Mode, Outcome, RunStats, State,
+    ZenoKind, ZenoPoint,
+};
+pub use integrator::{Method, Tolerances};
+pub use mechanics::Residuals;
+pub use model::{Constraint, HybridLagrangian, Scalar};
+pub use observer::{Observer, Point, Sample, Trajectory};
+pub use options::{Completion, OutputGrid, SimulationOptions, ZenoStrategy};
+pub use simulation::Simulation;

@@ -1,0 +1,262 @@
+//! The mechanics derived from a hybrid Lagrangian: equations of motion (free and constrained),
+//! the impact map `P`, and the projection `R∞` onto `h = 0, A q̇ = 0`.
+//!
+//! Conventions (REFERENCE §1, the paper's typo corrected):
+//! - free motion `M q̈ = f`, `f = ∂L/∂q − (∂²L/∂q̇∂q) q̇`;
+//! - constrained motion `M q̈ = f − Aᵀλ`, `λ = (A M⁻¹ Aᵀ)⁻¹ (A M⁻¹ f + Ȧ q̇)`; the contact force is
+//!   `−Aᵀλ`, so the constraint pushes while `λ ≤ 0`, and `λ = ḧ_free / (A M⁻¹ Aᵀ)`;
+//! - impact `q̇⁺ = q̇ − (1+e) (A q̇)/(A M⁻¹ Aᵀ) M⁻¹ Aᵀ`, so `A q̇⁺ = −e A q̇⁻`.
+
+use crate::derivatives::{
+    constraint_terms, lagrangian_terms, mass_matrix, with_dimension, ConstraintTerms,
+};
+use crate::model::HybridLagrangian;
+use nalgebra::{Cholesky, SMatrix, SVector};
+
+/// A failure of the mechanics at one state; the caller adds the time and the state.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub(crate) enum DynamicsError {
+    /// `M` is not positive definite (or not finite).
+    #[error("the mass matrix is not positive definite")]
+    MassMatrix,
+    /// `A M⁻¹ Aᵀ` vanishes: `∂h/∂q = 0` where the constraint has to act.
+    #[error("constraint {constraint} has a vanishing gradient")]
+    DegenerateConstraint { constraint: usize },
+    /// The right-hand side is not finite.
+    #[error("a non-finite value")]
+    NonFinite,
+    /// Newton's method did not bring `h` to zero.
+    #[error("the projection onto constraint {constraint} left |h| = {residual}")]
+    Projection { constraint: usize, residual: f64 },
+}
+
+/// What the projection `R∞` left behind: the residuals `|h|` and `|A q̇|`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Residuals {
+    /// `|h(q)|` after the projection.
+    pub h: f64,
+    /// `|A(q) q̇|` after the projection.
+    pub a_q_dot: f64,
+}
+
+fn cholesky<const N: usize>(m: SMatrix<f64, N, N>) -> Result<Cholesky<f64, nalgebra::Const<N>>, DynamicsError> {
+    if !m.iter().all(|x| x.is_finite()) {
+        return Err(DynamicsError::MassMatrix);
+    }
+    Cholesky::new(m).ok_or(DynamicsError::MassMatrix)
+}
+
+/// `w = M⁻¹ Aᵀ` and `s = A M⁻¹ Aᵀ`, or an error when `s` vanishes.
+fn constraint_direction<const N: usize>(
+    chol: &Cholesky<f64, nalgebra::Const<N>>,
+    c: &ConstraintTerms<N>,
+    index: usize,
+) -> Result<(SVector<f64, N>, f64), DynamicsError> {
+    let w = chol.solve(&c.gradient);
+    let s = c.gradient.dot(&w);
+    // s = |A|²/μ with μ an eigenvalue of M: compare with |A|² · |w|/|A| to be scale-free.
+    if !(s > 0.0) || s <= 1e-14 * c.gradient.norm() * w.norm() || c.gradient.norm() == 0.0 {
+        return Err(DynamicsError::DegenerateConstraint { constraint: index });
+    }
+    Ok((w, s))
+}
+
+/// A constraint's normal response, from [`Mechanics::normal`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Normal {
+    /// `A q̇`: the normal velocity (`ḣ`).
+    pub a_q_dot: f64,
+    /// `ḧ` under the free motion: `A M⁻¹ f + Ȧ q̇`.
+    pub h_ddot_free: f64,
+    /// `A M⁻¹ Aᵀ`.
+    pub s: f64,
+}
+
+impl Normal {
+    /// The multiplier that holds the motion on the constraint: `λ = ḧ_free / (A M⁻¹ Aᵀ)`.
+    pub fn lambda(&self) -> f64 {
+        self.h_ddot_free / self.s
+    }
+}
+
+/// The derived mechanics of one model; cheap to copy, borrows the model.
+pub(crate) struct Mechanics<'a, L> {
+    model: &'a L,
+    n: usize,
+}
+
+impl<L> Clone for Mechanics<'_, L> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<L> Copy for Mechanics<'_, L> {}
+
+impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
+    /// Mechanics of `model`, whose dimension has been checked to lie in `1..=MAX_DIMENSION`.
+    pub fn new(model: &'a L) -> Self {
+        Self {
+            model,
+            n: model.dimension(),
+        }
+    }
+
+    /// The model.
+    pub fn model(&self) -> &'a L {
+        self.model
+    }
+
+    /// `q̈` of the free motion (`active = None`) or of the motion constrained to `h_active = 0`;
+    /// returns `λ` of the active constraint (0 when free).
+    pub fn acceleration(
+        &self,
+        q: &[f64],
+        q_dot: &[f64],
+        active: Option<usize>,
+        q_ddot: &mut [f64],
+    ) -> Result<f64, DynamicsError> {
+        with_dimension!(self.n, N => self.acceleration_n::<N>(q, q_dot, active, q_ddot))
+    }
+
+    fn acceleration_n<const N: usize>(
+        &self,
+        q: &[f64],
+        q_dot: &[f64],
+        active: Option<usize>,
+        q_ddot: &mut [f64],
+    ) -> Result<f64, DynamicsError> {
+        let terms = lagrangian_terms::<N, L>(self.model, q, q_dot);
+        let chol = cholesky(terms.mass)?;
+        let mut acc = chol.solve(&terms.force);
+        let mut lambda = 0.0;
+        if let Some(index) = active {
+            let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
+            let (w, s) = constraint_direction(&chol, &c, index)?;
+            lambda = (c.gradient.dot(&acc) + c.a_dot_q_dot) / s;
+            acc -= w * lambda;
+        }
+        if !acc.iter().all(|x| x.is_finite()) || !lambda.is_finite() {
+            return Err(DynamicsError::NonFinite);
+        }
+        q_ddot[..N].copy_from_slice(acc.as_slice());
+        Ok(lambda)
+    }
+
+    /// The constraint's normal response at `(q, q̇)` under the free motion: `A q̇`, `ḧ_free`,
+    /// `A M⁻¹ Aᵀ`, and `M⁻¹ Aᵀ` into `w`. The multiplier that would hold the motion on the
+    /// constraint is `λ = ḧ_free / (A M⁻¹ Aᵀ)`; a contact can hold only while `λ ≤ 0`.
+    pub fn normal(
+        &self,
+        index: usize,
+        q: &[f64],
+        q_dot: &[f64],
+        w: &mut [f64],
+    ) -> Result<Normal, DynamicsError> {
+        with_dimension!(self.n, N => {
+            let terms = lagrangian_terms::<N, L>(self.model, q, q_dot);
+            let chol = cholesky(terms.mass)?;
+            let acc = chol.solve(&terms.force);
+            let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
+            let (dir, s) = constraint_direction(&chol, &c, index)?;
+            w[..N].copy_from_slice(dir.as_slice());
+            let normal = Normal {
+                a_q_dot: c.a_q_dot,
+                h_ddot_free: c.gradient.dot(&acc) + c.a_dot_q_dot,
+                s,
+            };
+            if normal.h_ddot_free.is_finite() { Ok(normal) } else { Err(DynamicsError::NonFinite) }
+        })
+    }
+
+    /// The impact map `P`: `q̇ ← q̇ − (1+e)(A q̇)/(A M⁻¹ Aᵀ) M⁻¹ Aᵀ` for constraint `index`.
+    pub fn impact(&self, index: usize, e: f64, q: &[f64], q_dot: &mut [f64]) -> Result<(), DynamicsError> {
+        with_dimension!(self.n, N => self.impact_n::<N>(index, e, q, q_dot))
+    }
+
+    fn impact_n<const N: usize>(
+        &self,
+        index: usize,
+        e: f64,
+        q: &[f64],
+        q_dot: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        let chol = cholesky(mass_matrix::<N, L>(self.model, q, q_dot))?;
+        let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
+        let (w, s) = constraint_direction(&chol, &c, index)?;
+        let scale = (1.0 + e) * c.a_q_dot / s;
+        for (v, wi) in q_dot.iter_mut().zip(w.iter()) {
+            *v -= scale * wi;
+        }
+        Ok(())
+    }
+
+    /// The general completion `R∞` for constraint `index`: `q` onto `h = 0` by Newton steps along
+    /// `M⁻¹Aᵀ`, then `q̇` by the plastic impact (`e = 0`), which keeps every momentum the constraint
+    /// does not touch.
+    pub fn project(&self, index: usize, q: &mut [f64], q_dot: &mut [f64]) -> Result<Residuals, DynamicsError> {
+        with_dimension!(self.n, N => self.project_n::<N>(index, q, q_dot))
+    }
+
+    fn project_n<const N: usize>(
+        &self,
+        index: usize,
+        q: &mut [f64],
+        q_dot: &mut [f64],
+    ) -> Result<Residuals, DynamicsError> {
+        const MAX_NEWTON: usize = 30;
+        let q_scale = q.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+        let mut best = f64::INFINITY;
+        for _ in 0..MAX_NEWTON {
+            let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
+            if !c.h.is_finite() {
+                return Err(DynamicsError::NonFinite);
+            }
+            let chol = cholesky(mass_matrix::<N, L>(self.model, q, q_dot))?;
+            let (w, s) = constraint_direction(&chol, &c, index)?;
+            let step = c.h / s;
+            let step_size = step.abs() * w.norm();
+            // Converged: the Newton step is at round-off, or h has stopped decreasing.
+            if c.h == 0.0 || step_size <= 4.0 * f64::EPSILON * q_scale || c.h.abs() >= best {
+                break;
+            }
+            best = c.h.abs();
+            for (x, wi) in q.iter_mut().zip(w.iter()) {
+                *x -= step * wi;
+            }
+        }
+        // Velocity: the plastic impact at the projected position.
+        self.impact_n::<N>(index, 0.0, q, q_dot)?;
+        let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
+        let residuals = Residuals {
+            h: c.h.abs(),
+            a_q_dot: c.a_q_dot.abs(),
+        };
+        if !(residuals.h <= 1e-12 * q_scale) {
+            return Err(DynamicsError::Projection {
+                constraint: index,
+                residual: residuals.h,
+            });
+        }
+        Ok(residuals)
+    }
+
+    /// `M(q)` in column-major order into `out` (`n²` entries); an error if it is not positive definite.
+    pub fn mass_matrix(&self, q: &[f64], q_dot: &[f64], out: &mut [f64]) -> Result<(), DynamicsError> {
+        with_dimension!(self.n, N => {
+            let m = mass_matrix::<N, L>(self.model, q, q_dot);
+            out[..N * N].copy_from_slice(m.as_slice());
+            cholesky(m).map(|_| ())
+        })
+    }
+
+    /// `A = ∂h/∂q` of constraint `index` into `out`; returns `h`.
+    pub fn constraint_gradient(&self, index: usize, q: &[f64], out: &mut [f64]) -> f64 {
+        with_dimension!(self.n, N => {
+            let zero = [0.0; N];
+            let c = constraint_terms::<N, L>(self.model, index, q, &zero);
+            out[..N].copy_from_slice(c.gradient.as_slice());
+            c.h
+        })
+    }
+}

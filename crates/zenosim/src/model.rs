@@ -1,0 +1,66 @@
+//! WHAT moves: the hybrid Lagrangian `(Q, L, h)` a user writes once.
+
+use num_dual::DualNum;
+
+/// A number the model's functions are evaluated with: `f64`, or one of num-dual's dual numbers.
+///
+/// Write `L` and `h` once, generic over `D: Scalar`; zenosim evaluates them over dual numbers to
+/// get every derivative exactly. `D * f64`, `D + f64`, `d.sin()`, `d.powi(2)` … all work; a literal
+/// on the left (`2.0 * d`) does not, so write `d * 2.0`.
+pub trait Scalar: DualNum<Primitive = f64> + Copy {}
+
+impl<T: DualNum<Primitive = f64> + Copy> Scalar for T {}
+
+/// One unilateral constraint `h(q) ≥ 0` of a model, with its coefficient of restitution.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Constraint {
+    /// A name, unique within the model (used in records and messages).
+    pub name: String,
+    /// The coefficient of restitution `e`, `0 ≤ e ≤ 1` (checked when a simulation is set up).
+    pub restitution: f64,
+}
+
+impl Constraint {
+    /// A constraint with the given name and restitution.
+    pub fn new(name: impl Into<String>, restitution: f64) -> Self {
+        Self {
+            name: name.into(),
+            restitution,
+        }
+    }
+}
+
+/// A simple hybrid Lagrangian `(Q, L, h)` (Ames et al. 2006, Definition 1), with one or more
+/// unilateral constraints.
+///
+/// `L` must be hyperregular: `M = ∂²L/∂q̇²` positive definite wherever the execution goes.
+/// Everything else (the Euler–Lagrange equations, `A = ∂h/∂q`, `Ȧ q̇`, the impact map, the
+/// constrained dynamics, the energy) is derived from these two functions by automatic
+/// differentiation.
+pub trait HybridLagrangian {
+    /// The number of coordinates `n = dim Q` (at most [`crate::MAX_DIMENSION`]).
+    fn dimension(&self) -> usize;
+
+    /// The Lagrangian `L(q, q̇)`; `q` and `q_dot` have [`Self::dimension`] entries.
+    fn lagrangian<D: Scalar>(&self, q: &[D], q_dot: &[D]) -> D;
+
+    /// The unilateral constraints; `h_i(q) ≥ 0` is the admissible side of constraint `i`.
+    fn constraints(&self) -> &[Constraint];
+
+    /// The constraint function `h_index(q)`.
+    fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D;
+
+    /// The coordinates' names, for records and messages. Default: `q1, q2, …`.
+    fn coordinate_names(&self) -> Vec<String> {
+        (1..=self.dimension()).map(|i| format!("q{i}")).collect()
+    }
+
+    /// The model's own completion map `R∞` for constraint `index` (the paper writes one per
+    /// example), applied in place. Return `false` (the default) when the model has none.
+    ///
+    /// It is used only with [`crate::Completion::ModelMap`]; zenosim then still projects the
+    /// result onto `h = 0, A q̇ = 0` so that the constrained phase starts on the constraint.
+    fn completion_map(&self, _index: usize, _q: &mut [f64], _q_dot: &mut [f64]) -> bool {
+        false
+    }
+}

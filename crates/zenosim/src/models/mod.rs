@@ -1,0 +1,27 @@
+//! The paper's examples, written in Rust, with the parameters of REFERENCE §3.
+//!
+//! Each model comes with constructors for the paper's and the authors' demo parameters and the
+//! matching initial state and stop time ([`Example`]).
+
+mod ball_on_sine;
+mod bouncing_ball;
+mod cart_pendulum;
+mod spherical_pendulum;
+
+pub use ball_on_sine::BallOnSine;
+pub use bouncing_ball::BouncingBall;
+pub use cart_pendulum::CartPendulum;
+pub use spherical_pendulum::SphericalPendulum;
+
+/// A model with the initial state and stop time it is published with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Example<M> {
+    /// The model.
+    pub model: M,
+    /// `q(0)`.
+    pub q0: Vec<f64>,
+    /// `q̇(0)`.
+    pub q_dot0: Vec<f64>,
+    /// The stop time.
+    pub t_end: f64,
+}

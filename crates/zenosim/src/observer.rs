@@ -1,0 +1,85 @@
+//! Watching a run: the trajectory is streamed to an [`Observer`] as it is computed, so memory
+//! stays flat however long the run; [`Trajectory`] keeps it in memory instead.
+
+use crate::execution::{Event, Mode};
+
+/// One point of the trajectory, with what the mechanics says there.
+#[derive(Clone, Copy, Debug)]
+pub struct Sample<'a> {
+    /// The time.
+    pub t: f64,
+    /// The mode.
+    pub mode: Mode,
+    /// The configuration.
+    pub q: &'a [f64],
+    /// The velocities.
+    pub q_dot: &'a [f64],
+    /// `h_i(q)` of every constraint.
+    pub h: &'a [f64],
+    /// `λ_i` of every constraint (0 where inactive; the contact force is `−A_iᵀ λ_i`).
+    pub lambda: &'a [f64],
+    /// The energy `q̇ᵀ ∂L/∂q̇ − L`.
+    pub energy: f64,
+}
+
+/// Receives the trajectory and the events of a run as they happen.
+pub trait Observer {
+    /// A point of the trajectory: at every accepted step (or output time), and just before and
+    /// just after every event.
+    fn sample(&mut self, _sample: &Sample<'_>) {}
+
+    /// An event, once it has happened.
+    fn event(&mut self, _event: &Event) {}
+
+    /// Whether [`Observer::sample`] wants to be called at all (samples cost some work). Default true.
+    fn wants_samples(&self) -> bool {
+        true
+    }
+}
+
+/// An observer that ignores everything (for benchmarks and callers that need only the record).
+impl Observer for () {
+    fn wants_samples(&self) -> bool {
+        false
+    }
+}
+
+/// One stored point of a [`Trajectory`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    /// The time.
+    pub t: f64,
+    /// The mode.
+    pub mode: Mode,
+    /// The configuration.
+    pub q: Vec<f64>,
+    /// The velocities.
+    pub q_dot: Vec<f64>,
+    /// `h_i(q)` of every constraint.
+    pub h: Vec<f64>,
+    /// `λ_i` of every constraint.
+    pub lambda: Vec<f64>,
+    /// The energy.
+    pub energy: f64,
+}
+
+/// An observer that keeps the whole trajectory in memory.
+#[derive(Clone, Debug, Default)]
+pub struct Trajectory {
+    /// The points, in time order.
+    pub points: Vec<Point>,
+}
+
+impl Observer for Trajectory {
+    fn sample(&mut self, s: &Sample<'_>) {
+        self.points.push(Point {
+            t: s.t,
+            mode: s.mode,
+            q: s.q.to_vec(),
+            q_dot: s.q_dot.to_vec(),
+            h: s.h.to_vec(),
+            lambda: s.lambda.to_vec(),
+            energy: s.energy,
+        });
+    }
+}

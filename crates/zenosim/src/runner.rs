@@ -1,0 +1,741 @@
+//! The loop that joins the integrator, the event location and the mode logic, and the record it
+//! produces.
+//!
+//! Every event follows the same sequence (as in DifferentialEquations.jl's callbacks): locate the
+//! root on the dense output, save the state before, apply the effect, save the state after,
+//! restart the integrator from there (its caches are rebuilt).
+
+use crate::derivatives::{energy, guard_along};
+use crate::error::Error;
+use crate::events::{first_crossing, time_resolution};
+use crate::execution::{
+    ActiveSet, Event, EventKind, Execution, HybridInterval, Mode, Outcome, RunStats, State,
+    ZenoKind, ZenoPoint,
+};
+use crate::integrator::{OdeSystem, StepError, Stepper};
+use crate::mechanics::{DynamicsError, Mechanics, Normal};
+use crate::model::HybridLagrangian;
+use crate::observer::{Observer, Sample};
+use crate::options::{Completion, OutputGrid, ZenoStrategy};
+use crate::simulation::Simulation;
+use crate::zeno::{ImpactSequence, Prediction};
+
+/// Events in a row that may not advance time before the run treats them as chattering.
+const STUCK_EVENTS: usize = 32;
+
+/// `Auto` switches when the next bounce is within this many ulps of the guard's rounding: there
+/// its height is known to about 1e-4, and the impacts after it are noise.
+const AUTO_ROUND_OFF_ULPS: f64 = 1e4;
+
+/// `Off` stalls when the next bounce is within this many ulps of the guard's rounding: impacts
+/// are at round-off, the plain hybrid system cannot go on.
+const OFF_ROUND_OFF_ULPS: f64 = 64.0;
+
+/// The equations of motion of one mode, as the integrator sees them: `y = (q, q̇)`.
+struct Equations<'a, L> {
+    mech: Mechanics<'a, L>,
+    active: Option<usize>,
+    n: usize,
+}
+
+impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
+    type Error = DynamicsError;
+
+    fn dimension(&self) -> usize {
+        2 * self.n
+    }
+
+    fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
+        let (q, q_dot) = y.split_at(self.n);
+        dy[..self.n].copy_from_slice(q_dot);
+        self.mech
+            .acceleration(q, q_dot, self.active, &mut dy[self.n..])
+            .map(|_| ())
+    }
+}
+
+/// One run in progress.
+pub(crate) struct Runner<'s, 'a, L, O> {
+    sim: &'s Simulation<'a, L>,
+    mech: Mechanics<'a, L>,
+    observer: &'s mut O,
+    stepper: Stepper,
+    n: usize,
+    mode: Mode,
+    /// The last committed time and state.
+    t: f64,
+    y: Vec<f64>,
+    interval_start: f64,
+    intervals: Vec<HybridInterval>,
+    events: Vec<Event>,
+    zeno: Vec<ZenoPoint>,
+    impacts: u64,
+    spurious: u64,
+    sequence: ImpactSequence,
+    last_event_t: f64,
+    stuck: usize,
+    /// The largest next step, from the predicted flight after an impact.
+    flight_bound: f64,
+    /// The next time on a uniform output grid.
+    next_output: f64,
+    wants_samples: bool,
+    scratch: Vec<f64>,
+    w: Vec<f64>,
+    h_buf: Vec<f64>,
+    lambda_buf: Vec<f64>,
+}
+
+/// What the post-step logic decided.
+enum Next {
+    Continue,
+    Stop(Outcome),
+}
+
+impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
+    pub fn new(sim: &'s Simulation<'a, L>, observer: &'s mut O) -> Self {
+        let n = sim.q0.len();
+        let m = sim.model.constraints().len();
+        let options = &sim.options;
+        let mut y = sim.q0.clone();
+        y.extend_from_slice(&sim.q_dot0);
+        Self {
+            sim,
+            mech: Mechanics::new(sim.model),
+            wants_samples: observer.wants_samples(),
+            observer,
+            stepper: Stepper::new(options.method, 2 * n, options.tolerances),
+            n,
+            mode: Mode::Free,
+            t: 0.0,
+            y,
+            interval_start: 0.0,
+            intervals: Vec::new(),
+            events: Vec::new(),
+            zeno: Vec::new(),
+            impacts: 0,
+            spurious: 0,
+            sequence: ImpactSequence::default(),
+            last_event_t: f64::NEG_INFINITY,
+            stuck: 0,
+            flight_bound: f64::INFINITY,
+            next_output: 0.0,
+            scratch: vec![0.0; 2 * n],
+            w: vec![0.0; n],
+            h_buf: vec![0.0; m],
+            lambda_buf: vec![0.0; m],
+        }
+    }
+
+    /// Runs to the end and returns the record.
+    pub fn run(mut self) -> Execution {
+        let outcome = match self.drive() {
+            Ok(outcome) => outcome,
+            Err(error) => Outcome::Failed(error),
+        };
+        self.intervals.push(HybridInterval {
+            start: self.interval_start,
+            end: self.t,
+            mode: self.mode,
+        });
+        let stats = self.stepper.stats();
+        Execution {
+            outcome,
+            intervals: self.intervals,
+            events: self.events,
+            zeno: self.zeno,
+            t_final: self.t,
+            final_state: split(&self.y, self.n),
+            final_mode: self.mode,
+            stats: RunStats {
+                steps: stats.steps,
+                rejected_steps: stats.rejected_steps,
+                rhs_evals: stats.rhs_evals,
+                impacts: self.impacts,
+                spurious_events: self.spurious,
+            },
+        }
+    }
+
+    fn drive(&mut self) -> Result<Outcome, Error> {
+        let options = self.sim.options;
+        let y0 = self.y.clone();
+        self.restart(0.0, &y0, None)?;
+        self.emit_grid_through(0.0)?;
+        while self.t < options.t_end {
+            if self.stepper.stats().steps >= options.max_steps {
+                return Err(Error::Limit {
+                    t: self.t,
+                    what: "steps",
+                    limit: options.max_steps,
+                });
+            }
+            let h_max = options.max_step.min(self.flight_bound);
+            self.flight_bound = f64::INFINITY;
+            let mut eqs = self.equations();
+            let stepped = self
+                .stepper
+                .step(&mut eqs, options.t_end, h_max)
+                .and_then(|()| self.stepper.prepare_dense(&mut eqs));
+            stepped.map_err(|e| self.step_error(e))?;
+            let next = match self.mode {
+                Mode::Free => self.after_free_step()?,
+                Mode::Constrained(active) => {
+                    let index = active.only().expect("one active constraint at a time");
+                    self.after_constrained_step(index)?
+                }
+            };
+            if let Next::Stop(outcome) = next {
+                return Ok(outcome);
+            }
+        }
+        Ok(Outcome::Finished)
+    }
+
+    fn equations(&self) -> Equations<'a, L> {
+        Equations {
+            mech: self.mech,
+            active: match self.mode {
+                Mode::Free => None,
+                Mode::Constrained(active) => active.only(),
+            },
+            n: self.n,
+        }
+    }
+
+    /// Restarts the integrator at `(t, y)` in the current mode.
+    fn restart(&mut self, t: f64, y: &[f64], hint: Option<f64>) -> Result<(), Error> {
+        let mut eqs = self.equations();
+        let started = self.stepper.start(&mut eqs, t, y, hint);
+        self.t = t;
+        self.y.copy_from_slice(y);
+        started.map_err(|e| self.step_error(e))
+    }
+
+    // ----- free flight -------------------------------------------------------------------
+
+    fn after_free_step(&mut self) -> Result<Next, Error> {
+        let (t0, t1) = (self.stepper.t_previous(), self.stepper.t());
+        let Some((index, t_event)) = self.earliest_crossing(t0, t1, None)? else {
+            self.commit_step()?;
+            return Ok(Next::Continue);
+        };
+        let mut before = vec![0.0; 2 * self.n];
+        self.stepper.interpolate(t_event, &mut before);
+        self.emit_grid_before(t_event)?;
+        let (q, q_dot) = before.split_at(self.n);
+        let normal = self.normal(index, t_event, q, q_dot)?;
+        if normal.a_q_dot > 0.0 || (normal.a_q_dot == 0.0 && normal.h_ddot_free > 0.0) {
+            // Moving away at the root: a round-off crossing, not an impact (REFERENCE §4).
+            self.spurious += 1;
+            if self.no_progress(t_event) {
+                return self.stuck_at(index, t_event, &before);
+            }
+            let hint = self.stepper.suggested_step();
+            self.restart(t_event, &before, Some(hint))?;
+            return Ok(Next::Continue);
+        }
+        self.impact(index, t_event, before, normal)
+    }
+
+    /// The earliest crossing of any guard (except `skip`) in `[t0, t1]`, on the dense output.
+    fn earliest_crossing(
+        &mut self,
+        t0: f64,
+        t1: f64,
+        skip: Option<usize>,
+    ) -> Result<Option<(usize, f64)>, Error> {
+        let m = self.sim.model.constraints().len();
+        let constrained = !matches!(self.mode, Mode::Free);
+        let mut found: Option<(usize, f64)> = None;
+        for index in (0..m).filter(|&i| Some(i) != skip) {
+            let (stepper, mech, n) = (&self.stepper, self.mech, self.n);
+            let mut y = std::mem::take(&mut self.scratch);
+            let active = skip;
+            let crossing = first_crossing(t0, t1, |t| {
+                stepper.interpolate(t, &mut y);
+                if let (true, Some(a)) = (constrained, active) {
+                    let (q, q_dot) = y.split_at_mut(n);
+                    // Best effort: a failed projection just leaves the sample as it is.
+                    let _ = mech.project(a, q, q_dot);
+                }
+                let (h, h_dot, _) = guard_along(mech.model(), index, &y[..n], &y[n..]);
+                (h, Some(h_dot))
+            });
+            self.scratch = y;
+            if let Some(c) = crossing {
+                let t = c.t_admissible;
+                if let Some((other, t_other)) = found {
+                    if (t - t_other).abs() <= time_resolution(t) * 1e3 {
+                        return Err(self.simultaneous(t.min(t_other), other, index));
+                    }
+                }
+                if found.is_none_or(|(_, t_other)| t < t_other) {
+                    found = Some((index, t));
+                }
+            }
+        }
+        Ok(found)
+    }
+
+    fn impact(&mut self, index: usize, t: f64, before: Vec<f64>, normal: Normal) -> Result<Next, Error> {
+        let e = self.sim.model.constraints()[index].restitution;
+        let h: f64 = self.sim.model.constraint(index, &before[..self.n]);
+        if let ZenoStrategy::Epsilon(eps) = self.sim.options.zeno {
+            // The paper's rule, on the state just before the impact.
+            if h.abs() <= eps && normal.a_q_dot.abs() <= eps {
+                self.sequence.record(index, t);
+                let prediction = Prediction::new(-e * normal.a_q_dot, normal.h_ddot_free, e);
+                return self.switch(index, t, before, prediction, e);
+            }
+        }
+        let mut after = before.clone();
+        {
+            let (q, q_dot) = after.split_at_mut(self.n);
+            self.mech
+                .impact(index, e, q, q_dot)
+                .map_err(|err| self.dynamics_error(err, t, &before))?;
+        }
+        self.impacts += 1;
+        self.record_event(EventKind::Impact, index, t, &before, &after, Mode::Free)?;
+        self.sequence.record(index, t);
+        let (q, q_dot) = after.split_at(self.n);
+        let post = self.normal(index, t, q, q_dot)?;
+        let prediction = Prediction::new(post.a_q_dot, post.h_ddot_free, e);
+        let stuck = self.no_progress(t);
+        if stuck {
+            return self.stuck_at(index, t, &after);
+        }
+        if let Some(p) = prediction {
+            match self.sim.options.zeno {
+                ZenoStrategy::Auto => {
+                    if self.zeno_resolved(index, t, &after, &p, &post, AUTO_ROUND_OFF_ULPS)? {
+                        return self.switch(index, t, after, Some(p), e);
+                    }
+                }
+                ZenoStrategy::Off => {
+                    if p.remaining <= time_resolution(t)
+                        || self.zeno_resolved(index, t, &after, &p, &post, OFF_ROUND_OFF_ULPS)?
+                    {
+                        return Ok(self.stall(index, t, &after, p, e));
+                    }
+                }
+                ZenoStrategy::Epsilon(_) => {}
+            }
+        }
+        let hint = self.stepper.suggested_step();
+        let hint = match prediction {
+            Some(p) if p.next_flight > 0.0 => {
+                self.flight_bound = 1.5 * p.next_flight;
+                hint.min(self.flight_bound)
+            }
+            _ => hint,
+        };
+        self.restart(t, &after, Some(hint))?;
+        Ok(Next::Continue)
+    }
+
+    /// Whether the rest of the Zeno sequence after the impact that left `y` is below what the
+    /// run resolves, with `ulps` the rounding margin of the guard (see [`Self::round_off_floor`]).
+    ///
+    /// Resolved means either:
+    /// - the predicted remaining time `T_rem` is shorter than the integrator's time resolution
+    ///   `1/‖ẋ‖` (in its own weighted error norm): the execution cannot move by more than the
+    ///   tolerance before `τ∞`, so switching now is as accurate as the integration; or
+    /// - the next bounce's height `(A q̇⁺)²/(2|ḧ|)` is within `ulps` of the rounding error of
+    ///   `h` itself: no further impact can be resolved in `f64`, and what the switch changes
+    ///   after `τ∞` (of order `A q̇⁺ · T_rem`) is far below the tolerance.
+    fn zeno_resolved(
+        &mut self,
+        index: usize,
+        t: f64,
+        y: &[f64],
+        p: &Prediction,
+        normal: &Normal,
+        ulps: f64,
+    ) -> Result<bool, Error> {
+        let n = self.n;
+        let (q, q_dot) = y.split_at(n);
+        // Round-off floor of the guard: the rounding of h = h(q) as the coordinates round.
+        let mut gradient = std::mem::take(&mut self.scratch);
+        let h = self.mech.constraint_gradient(index, q, &mut gradient);
+        let h_scale = h.abs()
+            + gradient[..n]
+                .iter()
+                .zip(q)
+                .map(|(a, x)| (a * x).abs())
+                .sum::<f64>();
+        self.scratch = gradient;
+        let height = normal.a_q_dot.max(0.0).powi(2) / (2.0 * -normal.h_ddot_free);
+        if height <= ulps * f64::EPSILON * h_scale {
+            return Ok(true);
+        }
+        if ulps < AUTO_ROUND_OFF_ULPS {
+            return Ok(false);
+        }
+        // Time resolution of the integration at the post-impact state.
+        let tol = self.sim.options.tolerances;
+        let mut acc = std::mem::take(&mut self.scratch);
+        let free = self.mech.acceleration(q, q_dot, None, &mut acc[..n]);
+        let acc_rate: f64 = (0..n)
+            .map(|i| {
+                let sq = tol.atol + tol.rtol * q[i].abs();
+                let sv = tol.atol + tol.rtol * q_dot[i].abs();
+                (q_dot[i] / sq).powi(2) + (acc[i] / sv).powi(2)
+            })
+            .sum();
+        self.scratch = acc;
+        free.map_err(|err| self.dynamics_error(err, t, y))?;
+        let rate = (acc_rate / (2 * n) as f64).sqrt();
+        Ok(p.remaining * rate <= 1.0)
+    }
+
+    /// Events that do not advance time: after [`STUCK_EVENTS`] in a row the contact is chattering.
+    fn no_progress(&mut self, t: f64) -> bool {
+        if t - self.last_event_t <= time_resolution(t) {
+            self.stuck += 1;
+        } else {
+            self.stuck = 0;
+        }
+        self.last_event_t = t;
+        self.stuck >= STUCK_EVENTS
+    }
+
+    /// Impacts that no longer advance time: a chattering contact. Switch, or stall with `Off`.
+    fn stuck_at(&mut self, index: usize, t: f64, y: &[f64]) -> Result<Next, Error> {
+        let e = self.sim.model.constraints()[index].restitution;
+        let p = Prediction {
+            next_flight: 0.0,
+            remaining: 0.0,
+        };
+        match self.sim.options.zeno {
+            ZenoStrategy::Off => Ok(self.stall(index, t, y, p, e)),
+            _ => self.switch(index, t, y.to_vec(), Some(p), e),
+        }
+    }
+
+    fn stall(&mut self, index: usize, t: f64, y: &[f64], p: Prediction, e: f64) -> Next {
+        let t_zeno = t + p.remaining;
+        self.zeno.push(ZenoPoint {
+            constraint: index,
+            kind: p.kind(e, t),
+            t_switch: t,
+            t_zeno,
+            impacts: self.sequence.count(),
+            ratio: self.sequence.ratio(),
+            point: split(y, self.n),
+        });
+        self.t = t;
+        self.y.copy_from_slice(y);
+        Next::Stop(Outcome::ZenoStalled {
+            constraint: index,
+            t_zeno,
+        })
+    }
+
+    /// The switch to the constrained motion through `R∞`.
+    fn switch(
+        &mut self,
+        index: usize,
+        t: f64,
+        before: Vec<f64>,
+        prediction: Option<Prediction>,
+        e: f64,
+    ) -> Result<Next, Error> {
+        let mut after = before.clone();
+        {
+            let (q, q_dot) = after.split_at_mut(self.n);
+            if self.sim.options.completion == Completion::ModelMap {
+                self.sim.model.completion_map(index, q, q_dot);
+            }
+            self.mech
+                .project(index, q, q_dot)
+                .map_err(|err| self.dynamics_error(err, t, &before))?;
+        }
+        let (kind, remaining) = match prediction {
+            Some(p) => (p.kind(e, t), p.remaining),
+            None => (ZenoKind::Chattering, 0.0),
+        };
+        self.zeno.push(ZenoPoint {
+            constraint: index,
+            kind,
+            t_switch: t,
+            t_zeno: t + remaining,
+            impacts: self.sequence.count(),
+            ratio: self.sequence.ratio(),
+            point: split(&after, self.n),
+        });
+        self.sequence.clear();
+        self.record_event(
+            EventKind::Zeno,
+            index,
+            t,
+            &before,
+            &after,
+            Mode::Constrained(ActiveSet::single(index)),
+        )?;
+        self.restart(t, &after, None)?;
+        // A constraint that cannot hold the motion (λ > 0) lets go at once.
+        let (q, q_dot) = after.split_at(self.n);
+        if self.normal(index, t, q, q_dot)?.lambda() > 0.0 {
+            return self.liftoff(index, t, after);
+        }
+        Ok(Next::Continue)
+    }
+
+    // ----- constrained motion ------------------------------------------------------------
+
+    fn after_constrained_step(&mut self, index: usize) -> Result<Next, Error> {
+        let (t0, t1) = (self.stepper.t_previous(), self.stepper.t());
+        // Another constraint reached while this one is active: a simultaneous contact.
+        if let Some((other, t)) = self.earliest_crossing(t0, t1, Some(index))? {
+            return Err(self.simultaneous(t, index, other));
+        }
+        // Lift-off: λ reaches 0 from below; reported where λ ≥ 0, where free flight is admissible.
+        let (stepper, mech, n) = (&self.stepper, self.mech, self.n);
+        let mut y = std::mem::take(&mut self.scratch);
+        let mut w = std::mem::take(&mut self.w);
+        let crossing = first_crossing(t0, t1, |t| {
+            stepper.interpolate(t, &mut y);
+            let (q, q_dot) = y.split_at_mut(n);
+            let lambda = mech
+                .project(index, q, q_dot)
+                .and_then(|_| mech.normal(index, q, q_dot, &mut w))
+                .map_or(f64::NAN, |normal| normal.lambda());
+            (-lambda, None)
+        });
+        self.scratch = y;
+        self.w = w;
+        if let Some(c) = crossing {
+            let t = c.t_violating;
+            let mut state = vec![0.0; 2 * n];
+            self.stepper.interpolate(t, &mut state);
+            {
+                let (q, q_dot) = state.split_at_mut(n);
+                self.mech
+                    .project(index, q, q_dot)
+                    .map_err(|err| self.dynamics_error(err, t, &state.clone()))?;
+            }
+            self.emit_grid_before(t)?;
+            return self.liftoff(index, t, state);
+        }
+        // Drift: put the step's end back on h = 0, A q̇ = 0.
+        let mut end = self.stepper.y().to_vec();
+        let t_end = self.stepper.t();
+        {
+            let (q, q_dot) = end.split_at_mut(n);
+            self.mech
+                .project(index, q, q_dot)
+                .map_err(|err| self.dynamics_error(err, t_end, self.stepper.y()))?;
+        }
+        if end != self.stepper.y() {
+            let mut eqs = self.equations();
+            self.stepper
+                .replace_state(&mut eqs, &end)
+                .map_err(|e| self.step_error(e))?;
+        }
+        self.commit_step()?;
+        Ok(Next::Continue)
+    }
+
+    fn liftoff(&mut self, index: usize, t: f64, state: Vec<f64>) -> Result<Next, Error> {
+        self.record_event(EventKind::Liftoff, index, t, &state, &state, Mode::Free)?;
+        self.sequence.clear();
+        self.restart(t, &state, None)?;
+        Ok(Next::Continue)
+    }
+
+    // ----- records and output ------------------------------------------------------------
+
+    /// Records an event at `t` from `before` (in the current mode) to `after` (in `new_mode`),
+    /// with its samples, and closes the current interval of the hybrid time domain.
+    fn record_event(
+        &mut self,
+        kind: EventKind,
+        constraint: usize,
+        t: f64,
+        before: &[f64],
+        after: &[f64],
+        new_mode: Mode,
+    ) -> Result<(), Error> {
+        let limit = self.sim.options.max_events;
+        if self.events.len() as u64 >= limit {
+            return Err(Error::Limit {
+                t,
+                what: "events",
+                limit,
+            });
+        }
+        self.emit(t, before, self.mode)?;
+        let event = Event {
+            kind,
+            t,
+            constraint,
+            before: split(before, self.n),
+            after: split(after, self.n),
+        };
+        self.observer.event(&event);
+        self.events.push(event);
+        self.intervals.push(HybridInterval {
+            start: self.interval_start,
+            end: t,
+            mode: self.mode,
+        });
+        self.interval_start = t;
+        self.mode = new_mode;
+        self.emit(t, after, new_mode)?;
+        Ok(())
+    }
+
+    /// Accepts the stepper's step as the execution's: output, and the committed state.
+    fn commit_step(&mut self) -> Result<(), Error> {
+        let t1 = self.stepper.t();
+        match self.sim.options.output {
+            OutputGrid::Steps => {
+                let y = self.stepper.y().to_vec();
+                self.emit(t1, &y, self.mode)?;
+            }
+            OutputGrid::Uniform(_) => self.emit_grid_through(t1)?,
+        }
+        self.t = t1;
+        self.y.copy_from_slice(self.stepper.y());
+        Ok(())
+    }
+
+    /// Uniform grid points strictly before `t` (the states around an event come next).
+    fn emit_grid_before(&mut self, t: f64) -> Result<(), Error> {
+        self.emit_grid(t, false)
+    }
+
+    /// Uniform grid points up to and including `t` (and the initial point at `t = 0`).
+    fn emit_grid_through(&mut self, t: f64) -> Result<(), Error> {
+        if t == 0.0 {
+            let y0 = self.y.clone();
+            self.emit(0.0, &y0, self.mode)?;
+            if let OutputGrid::Uniform(dt) = self.sim.options.output {
+                self.next_output = dt;
+            }
+            return Ok(());
+        }
+        self.emit_grid(t, true)
+    }
+
+    fn emit_grid(&mut self, t: f64, inclusive: bool) -> Result<(), Error> {
+        let OutputGrid::Uniform(dt) = self.sim.options.output else {
+            return Ok(());
+        };
+        if !self.wants_samples {
+            return Ok(());
+        }
+        let mut y = vec![0.0; 2 * self.n];
+        while self.next_output < t || (inclusive && self.next_output == t) {
+            let to = self.next_output;
+            self.stepper.interpolate(to, &mut y);
+            if let Mode::Constrained(active) = self.mode {
+                let index = active.only().expect("one active constraint");
+                let (q, q_dot) = y.split_at_mut(self.n);
+                self.mech
+                    .project(index, q, q_dot)
+                    .map_err(|err| self.dynamics_error(err, to, &self.y.clone()))?;
+            }
+            self.emit(to, &y, self.mode)?;
+            let k = (to / dt).round() + 1.0;
+            self.next_output = k * dt;
+        }
+        Ok(())
+    }
+
+    /// Sends one sample to the observer.
+    fn emit(&mut self, t: f64, y: &[f64], mode: Mode) -> Result<(), Error> {
+        if !self.wants_samples {
+            return Ok(());
+        }
+        let (q, q_dot) = y.split_at(self.n);
+        let model = self.sim.model;
+        for (i, h) in self.h_buf.iter_mut().enumerate() {
+            *h = model.constraint(i, q);
+        }
+        self.lambda_buf.iter_mut().for_each(|l| *l = 0.0);
+        if let Mode::Constrained(active) = mode {
+            for index in active.iter() {
+                let mut w = std::mem::take(&mut self.w);
+                let normal = self.mech.normal(index, q, q_dot, &mut w);
+                self.w = w;
+                self.lambda_buf[index] = normal
+                    .map_err(|err| self.dynamics_error(err, t, y))?
+                    .lambda();
+            }
+        }
+        let sample = Sample {
+            t,
+            mode,
+            q,
+            q_dot,
+            h: &self.h_buf,
+            lambda: &self.lambda_buf,
+            energy: energy(model, q, q_dot),
+        };
+        self.observer.sample(&sample);
+        Ok(())
+    }
+
+    // ----- errors ------------------------------------------------------------------------
+
+    fn normal(&mut self, index: usize, t: f64, q: &[f64], q_dot: &[f64]) -> Result<Normal, Error> {
+        let mut w = std::mem::take(&mut self.w);
+        let normal = self.mech.normal(index, q, q_dot, &mut w);
+        self.w = w;
+        normal.map_err(|err| {
+            let mut y = q.to_vec();
+            y.extend_from_slice(q_dot);
+            self.dynamics_error(err, t, &y)
+        })
+    }
+
+    fn dynamics_error(&self, err: DynamicsError, t: f64, y: &[f64]) -> Error {
+        let name = |i: usize| self.sim.model.constraints()[i].name.clone();
+        match err {
+            DynamicsError::MassMatrix => Error::SingularMassMatrix {
+                t,
+                q: y[..self.n].to_vec(),
+                q_dot: y[self.n..].to_vec(),
+            },
+            DynamicsError::DegenerateConstraint { constraint } => Error::DegenerateConstraint {
+                t,
+                constraint: name(constraint),
+            },
+            DynamicsError::NonFinite => Error::NonFinite { t },
+            DynamicsError::Projection {
+                constraint,
+                residual,
+            } => Error::Projection {
+                t,
+                constraint: name(constraint),
+                residual,
+            },
+        }
+    }
+
+    fn step_error(&self, err: StepError<DynamicsError>) -> Error {
+        match err {
+            StepError::Rhs { t, source } => self.dynamics_error(source, t, self.stepper.y()),
+            StepError::StepSizeUnderflow { t, h } => Error::StepSizeUnderflow { t, h },
+            StepError::NonFinite { t } => Error::NonFinite { t },
+        }
+    }
+
+    fn simultaneous(&self, t: f64, first: usize, second: usize) -> Error {
+        let name = |i: usize| self.sim.model.constraints()[i].name.clone();
+        Error::SimultaneousContact {
+            t,
+            first: name(first),
+            second: name(second),
+        }
+    }
+}
+
+fn split(y: &[f64], n: usize) -> State {
+    State {
+        q: y[..n].to_vec(),
+        q_dot: y[n..].to_vec(),
+    }
+}

@@ -1,0 +1,110 @@
+//! Setting up a run: the model, the initial state and the options, checked before anything runs.
+
+use crate::derivatives::MAX_DIMENSION;
+use crate::error::Error;
+use crate::execution::{ActiveSet, Execution};
+use crate::mechanics::Mechanics;
+use crate::model::HybridLagrangian;
+use crate::observer::Observer;
+use crate::options::SimulationOptions;
+use crate::runner::Runner;
+
+/// A run of the completed hybrid system of a model from one initial state.
+///
+/// ```
+/// # use zenosim::{Simulation, SimulationOptions, models::BouncingBall, Outcome};
+/// let ball = BouncingBall::new(1.0, 9.81, 0.5);
+/// let options = SimulationOptions { t_end: 3.0, ..Default::default() };
+/// let run = Simulation::new(&ball, &[1.0], &[0.0], options).unwrap().run(&mut ());
+/// assert_eq!(run.outcome, Outcome::Finished);
+/// assert_eq!(run.zeno.len(), 1); // the Zeno point at 3·√(2/9.81) was reached and passed
+/// ```
+pub struct Simulation<'a, L> {
+    pub(crate) model: &'a L,
+    pub(crate) q0: Vec<f64>,
+    pub(crate) q_dot0: Vec<f64>,
+    pub(crate) options: SimulationOptions,
+}
+
+impl<'a, L: HybridLagrangian> Simulation<'a, L> {
+    /// Checks the model, the initial state `(q0, q̇0)` and the options, naming the first problem.
+    pub fn new(
+        model: &'a L,
+        q0: &[f64],
+        q_dot0: &[f64],
+        options: SimulationOptions,
+    ) -> Result<Self, Error> {
+        options.validate()?;
+        let n = model.dimension();
+        if n == 0 || n > MAX_DIMENSION {
+            return Err(Error::Dimension {
+                dimension: n,
+                max: MAX_DIMENSION,
+            });
+        }
+        let constraints = model.constraints();
+        if constraints.is_empty() || constraints.len() > ActiveSet::CAPACITY {
+            return Err(Error::ConstraintCount {
+                count: constraints.len(),
+                max: ActiveSet::CAPACITY,
+            });
+        }
+        for (what, v) in [("q0", q0), ("q_dot0", q_dot0)] {
+            if v.len() != n {
+                return Err(Error::Length {
+                    what,
+                    got: v.len(),
+                    expected: n,
+                });
+            }
+        }
+        if !q0.iter().chain(q_dot0).all(|x| x.is_finite()) {
+            return Err(Error::NonFiniteInitialState);
+        }
+        for (index, c) in constraints.iter().enumerate() {
+            if !(0.0..=1.0).contains(&c.restitution) {
+                return Err(Error::Restitution {
+                    constraint: c.name.clone(),
+                    value: c.restitution,
+                });
+            }
+            let h: f64 = model.constraint(index, q0);
+            let scale = q0.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+            // A start on the surface may carry round-off (h = −1e-17 for x3 = sin x2).
+            if !(h >= -1e-12 * scale) {
+                return Err(Error::Inadmissible {
+                    constraint: c.name.clone(),
+                    h,
+                });
+            }
+        }
+        let mut mass = vec![0.0; n * n];
+        if Mechanics::new(model)
+            .mass_matrix(q0, q_dot0, &mut mass)
+            .is_err()
+        {
+            return Err(Error::SingularMassMatrix {
+                t: 0.0,
+                q: q0.to_vec(),
+                q_dot: q_dot0.to_vec(),
+            });
+        }
+        Ok(Self {
+            model,
+            q0: q0.to_vec(),
+            q_dot0: q_dot0.to_vec(),
+            options,
+        })
+    }
+
+    /// The options of this run.
+    pub fn options(&self) -> &SimulationOptions {
+        &self.options
+    }
+
+    /// Runs to the stop time (or to a Zeno stall, or to a failure), streaming the trajectory to
+    /// `observer`; the record of the execution is returned whatever the outcome.
+    pub fn run(&self, observer: &mut impl Observer) -> Execution {
+        Runner::new(self, observer).run()
+    }
+}
