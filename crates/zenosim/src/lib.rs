@@ -19,10 +19,12 @@
 //!   a run, checked before it starts;
 //! - [`Execution`]: the record (hybrid time domain, [`Event`]s, [`ZenoPoint`]s, [`Outcome`]);
 //! - [`Observer`], [`Sample`], [`Trajectory`]: the trajectory, streamed as it is computed;
+//! - [`Derived`]: `M`, `A`, `λ`, the energy and `R∞` at one state;
 //! - [`integrator::Stepper`]: the Runge–Kutta pairs (DOP853, DOPRI5) with dense output;
 //! - [`models`]: the paper's examples, written in Rust.
 
 mod derivatives;
+mod derived;
 mod error;
 mod events;
 mod execution;
@@ -37,13 +39,13 @@ mod simulation;
 mod zeno;
 
 pub use derivatives::MAX_DIMENSION;
+pub use derived::Derived;
 pub use error::Error;
 pub use execution::{
     ActiveSet, Event, EventKind, Execution, HybridInterval, Mode, Outcome, RunStats, State,
     ZenoKind, ZenoPoint,
 };
 pub use integrator::{Method, Tolerances};
-pub use mechanics::Residuals;
 pub use model::{Constraint, HybridLagrangian, Scalar};
 pub use observer::{Observer, Point, Sample, Trajectory};
 pub use options::{Completion, OutputGrid, SimulationOptions, ZenoStrategy};

@@ -32,7 +32,7 @@ pub(crate) enum DynamicsError {
 
 /// What the projection `R∞` left behind: the residuals `|h|` and `|A q̇|`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Residuals {
+pub(crate) struct Residuals {
     /// `|h(q)|` after the projection.
     pub h: f64,
     /// `|A(q) q̇|` after the projection.
@@ -241,7 +241,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         Ok(residuals)
     }
 
-    /// `M(q)` in column-major order into `out` (`n²` entries); an error if it is not positive definite.
+    /// `M(q)` (symmetric, so row- and column-major agree) into `out` (`n²` entries); an error if it is not positive definite.
     pub fn mass_matrix(&self, q: &[f64], q_dot: &[f64], out: &mut [f64]) -> Result<(), DynamicsError> {
         with_dimension!(self.n, N => {
             let m = mass_matrix::<N, L>(self.model, q, q_dot);

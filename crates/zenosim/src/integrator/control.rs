@@ -12,7 +12,8 @@ pub(super) const FAILURE_SHRINK: f64 = 0.25;
 /// Per-method controller constants.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Control {
-    /// `1 / (q + 1)`, `q` the order of the error estimate.
+    /// `1 / (q + 1)`, `q` the order of the error estimate (1/8 is done with
+    /// three square roots instead of `powf`).
     expo: f64,
     /// Smallest step ratio `h_new / h`.
     fac_min: f64,
@@ -46,13 +47,23 @@ impl Control {
     /// (`err == 0` gives the largest ratio).
     #[inline]
     pub(super) fn accept_factor(&self, err: f64) -> f64 {
-        (SAFETY * err.powf(-self.expo)).clamp(self.fac_min, self.fac_max)
+        (SAFETY / self.root(err)).clamp(self.fac_min, self.fac_max)
     }
 
     /// Step ratio after a trial rejected with error norm `err > 1` (< 0.9).
     #[inline]
     pub(super) fn reject_factor(&self, err: f64) -> f64 {
-        (SAFETY * err.powf(-self.expo)).max(self.fac_min)
+        (SAFETY / self.root(err)).max(self.fac_min)
+    }
+
+    /// `err^expo` (`err >= 0`; 0 maps to 0, whose reciprocal gives the largest ratio).
+    #[inline]
+    fn root(&self, err: f64) -> f64 {
+        if self.expo == 0.125 {
+            err.sqrt().sqrt().sqrt()
+        } else {
+            err.powf(self.expo)
+        }
     }
 }
 

@@ -80,7 +80,9 @@ fn stages<S: OdeSystem>(
 fn solution_and_error(w: &Work, tol: Tolerances, h: f64, y: &[f64], y_new: &mut [f64]) -> f64 {
     let n = y_new.len();
     let y = &y[..n];
-    let [k1, k6, k7, k8, k9, k10, k11, k12] = [0, 5, 6, 7, 8, 9, 10, 11].map(|j| &w.k[j][..n]);
+    let k = &w.k;
+    let (k1, k6, k7, k8) = (&k[0][..n], &k[5][..n], &k[6][..n], &k[7][..n]);
+    let (k9, k10, k11, k12) = (&k[8][..n], &k[9][..n], &k[10][..n], &k[11][..n]);
     let (mut s5, mut s3) = (0.0, 0.0);
     for i in 0..n {
         let bk = B[0] * k1[i]
@@ -172,11 +174,17 @@ pub(super) fn prepare_dense<S: OdeSystem>(
     let [diff, bspl, third, rest @ ..] = &mut w.cont;
     hermite_parts([diff, bspl, third], h, y0, y1, &w.k[0], &w.k[FSAL]);
     for (d, out) in D.iter().zip(rest.iter_mut()) {
+        let k = &w.k;
         combine(
             out,
             h,
-            [0, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15].map(|j| d[j]),
-            [0, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15].map(|j| &w.k[j][..]),
+            [
+                d[0], d[5], d[6], d[7], d[8], d[9], d[10], d[11], d[12], d[13], d[14], d[15],
+            ],
+            [
+                &k[0], &k[5], &k[6], &k[7], &k[8], &k[9], &k[10], &k[11], &k[12], &k[13], &k[14],
+                &k[15],
+            ],
         );
     }
     Ok(())
@@ -192,7 +200,9 @@ pub(super) fn interpolate(w: &Work, theta: f64, y0: &[f64], y1: &[f64], out: &mu
     let s1 = 1.0 - s;
     let (base, cd) = if s <= 0.5 { (y0, s) } else { (y1, -s1) };
     let base = &base[..n];
-    let [diff, bspl, third, r4, r5, r6, r7] = w.cont.each_ref().map(|v| &v[..n]);
+    let c = &w.cont;
+    let (diff, bspl, third, r4) = (&c[0][..n], &c[1][..n], &c[2][..n], &c[3][..n]);
+    let (r5, r6, r7) = (&c[4][..n], &c[5][..n], &c[6][..n]);
     let ss1 = s * s1;
     for i in 0..n {
         let poly = bspl[i] + s * (third[i] + s1 * (r4[i] + s * (r5[i] + s1 * (r6[i] + s * r7[i]))));

@@ -131,7 +131,9 @@ fn stages<S: OdeSystem>(
 fn error_norm(w: &Work, tol: Tolerances, h: f64, y: &[f64], y_new: &[f64]) -> f64 {
     let n = y_new.len();
     let y = &y[..n];
-    let [k1, k3, k4, k5, k6, k7] = [0, 2, 3, 4, 5, 6].map(|j| &w.k[j][..n]);
+    let k = &w.k;
+    let (k1, k3, k4) = (&k[0][..n], &k[2][..n], &k[3][..n]);
+    let (k5, k6, k7) = (&k[4][..n], &k[5][..n], &k[6][..n]);
     let mut sum = 0.0;
     for i in 0..n {
         let e =
@@ -175,11 +177,12 @@ pub(super) fn trial<S: OdeSystem>(
 pub(super) fn prepare_dense(w: &mut Work, h: f64, y0: &[f64], y1: &[f64]) {
     let [diff, bspl, third, d] = &mut w.cont;
     hermite_parts([diff, bspl, third], h, y0, y1, &w.k[0], &w.k[FSAL]);
+    let k = &w.k;
     combine(
         d,
         h,
-        [0, 2, 3, 4, 5, 6].map(|j| D[j]),
-        [0, 2, 3, 4, 5, 6].map(|j| &w.k[j][..]),
+        [D[0], D[2], D[3], D[4], D[5], D[6]],
+        [&k[0], &k[2], &k[3], &k[4], &k[5], &k[6]],
     );
 }
 
@@ -193,7 +196,8 @@ pub(super) fn interpolate(w: &Work, theta: f64, y0: &[f64], y1: &[f64], out: &mu
     let s1 = 1.0 - s;
     let (base, cd) = if s <= 0.5 { (y0, s) } else { (y1, -s1) };
     let base = &base[..n];
-    let [diff, bspl, third, d] = w.cont.each_ref().map(|v| &v[..n]);
+    let c = &w.cont;
+    let (diff, bspl, third, d) = (&c[0][..n], &c[1][..n], &c[2][..n], &c[3][..n]);
     let ss1 = s * s1;
     for i in 0..n {
         out[i] = base[i] + cd * diff[i] + ss1 * (bspl[i] + s * (third[i] + s1 * d[i]));

@@ -1,8 +1,9 @@
-//! Small fused vector kernels shared by the Runge–Kutta stage loops.
+//! Small vector kernels shared by the Runge–Kutta stage loops.
 //!
 //! The number of stage vectors `M` is a const generic, so after inlining the
-//! inner sum is fully unrolled; every slice is re-sliced to the output length
-//! first so that the element loop carries no bounds checks.
+//! sum over the stages is fully unrolled inside a single pass over the
+//! elements; every slice is cut to the output length first, which removes the
+//! bounds checks of the element loop.
 
 use super::{OdeSystem, Stats};
 
@@ -17,28 +18,38 @@ pub(super) fn stage<const M: usize>(
 ) {
     let n = out.len();
     let y = &y[..n];
-    let k = k.map(|s| &s[..n]);
+    let k = resliced(k, n);
     for (i, (o, &yi)) in out.iter_mut().zip(y).enumerate() {
-        let mut acc = 0.0;
-        for (&aj, kj) in a.iter().zip(k.iter()) {
-            acc += aj * kj[i];
-        }
-        *o = yi + h * acc;
+        *o = yi + h * dot_at(&a, &k, i);
     }
 }
 
 /// `out = h * sum_j a[j] * k[j]`.
 #[inline(always)]
 pub(super) fn combine<const M: usize>(out: &mut [f64], h: f64, a: [f64; M], k: [&[f64]; M]) {
-    let n = out.len();
-    let k = k.map(|s| &s[..n]);
+    let k = resliced(k, out.len());
     for (i, o) in out.iter_mut().enumerate() {
-        let mut acc = 0.0;
-        for (&aj, kj) in a.iter().zip(k.iter()) {
-            acc += aj * kj[i];
-        }
-        *o = h * acc;
+        *o = h * dot_at(&a, &k, i);
     }
+}
+
+/// Every slice cut to length `n` (so that indexing below `n` needs no checks).
+#[inline(always)]
+fn resliced<const M: usize>(mut k: [&[f64]; M], n: usize) -> [&[f64]; M] {
+    for kj in k.iter_mut() {
+        *kj = &kj[..n];
+    }
+    k
+}
+
+/// `sum_j a[j] * k[j][i]`, accumulated in stage order.
+#[inline(always)]
+fn dot_at<const M: usize>(a: &[f64; M], k: &[&[f64]; M], i: usize) -> f64 {
+    let mut acc = 0.0;
+    for (&aj, kj) in a.iter().zip(k) {
+        acc += aj * kj[i];
+    }
+    acc
 }
 
 /// Hermite part of the continuous extensions (II.6): with `diff = y1 - y0`,

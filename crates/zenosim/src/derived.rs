@@ -1,0 +1,90 @@
+//! Quantities derived from a model at one state: for checks, reports and tests.
+
+use crate::derivatives::{energy, guard_along, MAX_DIMENSION};
+use crate::error::Error;
+use crate::mechanics::Mechanics;
+use crate::model::HybridLagrangian;
+
+/// What zenosim derives from a model's `L` and `h` at a state `(q, q̇)`, by automatic
+/// differentiation.
+///
+/// ```
+/// # use zenosim::{Derived, models::BallOnSine};
+/// let ball = BallOnSine::paper().model;
+/// let d = Derived::new(&ball).unwrap();
+/// let (h, a) = d.constraint(0, &[0.0, 0.0, 1.0]);
+/// assert_eq!((h, a), (1.0, vec![0.0, -1.0, 1.0])); // h = x3 − sin x2, A = (0, −cos x2, 1)
+/// ```
+pub struct Derived<'a, L> {
+    mech: Mechanics<'a, L>,
+    n: usize,
+}
+
+impl<'a, L: HybridLagrangian> Derived<'a, L> {
+    /// The derived quantities of `model` (an error if its dimension is 0 or above
+    /// [`MAX_DIMENSION`]).
+    pub fn new(model: &'a L) -> Result<Self, Error> {
+        let n = model.dimension();
+        if n == 0 || n > MAX_DIMENSION {
+            return Err(Error::Dimension {
+                dimension: n,
+                max: MAX_DIMENSION,
+            });
+        }
+        Ok(Self {
+            mech: Mechanics::new(model),
+            n,
+        })
+    }
+
+    /// The energy `q̇ᵀ ∂L/∂q̇ − L`.
+    pub fn energy(&self, q: &[f64], q_dot: &[f64]) -> f64 {
+        energy(self.mech.model(), q, q_dot)
+    }
+
+    /// The mass matrix `M = ∂²L/∂q̇²`, row by row (it is symmetric), and whether it is positive
+    /// definite.
+    pub fn mass_matrix(&self, q: &[f64], q_dot: &[f64]) -> (Vec<f64>, bool) {
+        let mut m = vec![0.0; self.n * self.n];
+        let positive = self.mech.mass_matrix(q, q_dot, &mut m).is_ok();
+        (m, positive)
+    }
+
+    /// `q̈` of the free motion.
+    pub fn acceleration(&self, q: &[f64], q_dot: &[f64]) -> Option<Vec<f64>> {
+        let mut acc = vec![0.0; self.n];
+        self.mech.acceleration(q, q_dot, None, &mut acc).ok()?;
+        Some(acc)
+    }
+
+    /// `h(q)` and `A = ∂h/∂q` of constraint `index`.
+    pub fn constraint(&self, index: usize, q: &[f64]) -> (f64, Vec<f64>) {
+        let mut a = vec![0.0; self.n];
+        let h = self.mech.constraint_gradient(index, q, &mut a);
+        (h, a)
+    }
+
+    /// `A q̇`: the rate of `h` (the normal velocity).
+    pub fn normal_velocity(&self, index: usize, q: &[f64], q_dot: &[f64]) -> f64 {
+        guard_along(self.mech.model(), index, q, q_dot).1
+    }
+
+    /// The multiplier `λ` that holds the motion on constraint `index` (the constraint pushes
+    /// while `λ ≤ 0`), or `None` where the mechanics fail (singular `M` or `A`).
+    pub fn multiplier(&self, index: usize, q: &[f64], q_dot: &[f64]) -> Option<f64> {
+        let mut w = vec![0.0; self.n];
+        self.mech
+            .normal(index, q, q_dot, &mut w)
+            .ok()
+            .map(|normal| normal.lambda())
+    }
+
+    /// The general completion `R∞` onto constraint `index`, in place; returns `(|h|, |A q̇|)`
+    /// after it, or `None` if it failed.
+    pub fn project(&self, index: usize, q: &mut [f64], q_dot: &mut [f64]) -> Option<(f64, f64)> {
+        self.mech
+            .project(index, q, q_dot)
+            .ok()
+            .map(|r| (r.h, r.a_q_dot))
+    }
+}
