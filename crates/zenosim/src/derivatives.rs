@@ -190,3 +190,273 @@ pub(crate) fn energy<L: HybridLagrangian>(model: &L, q: &[f64], q_dot: &[f64]) -
     let l = model.lagrangian(&q_d[..n], &v_d[..n]);
     l.eps - l.re
 }
+
+#[cfg(test)]
+mod tests {
+    //! The automatic derivatives against central finite differences of the models' own
+    //! `lagrangian::<f64>` and `constraint::<f64>`, at random states.
+    //!
+    //! Finite-difference steps and the tolerance: a first derivative uses the 2nd-order central
+    //! difference with step 1e-5 (truncation `h² f'''/6 ≈ 1e-11`, round-off `ε|f|/h ≈ 2e-11 |f|`);
+    //! a second derivative uses the mixed central difference with steps 1e-3 and 5e-4 combined
+    //! by Richardson extrapolation (truncation `O(h⁴) ≈ 1e-12`, round-off `≈ 4ε|f|/h² ≈ 4e-9 |f|`;
+    //! step 1e-5 would leave round-off of `ε|f|/h² ≈ 2e-6 |f|`). The comparison tolerance
+    //! `1e-6 · (1 + scale)`, with `scale` the size of the values the differences are taken of,
+    //! leaves two or more orders of margin over both errors, while any wrong term (a sign, a
+    //! factor 2, a missing curvature term) is an O(1) relative error.
+
+    use super::*;
+    use crate::model::{Constraint, Scalar};
+    use crate::models::{BallOnSine, BouncingBall, CartPendulum, SphericalPendulum};
+    use proptest::prelude::*;
+
+    const STEP1: f64 = 1e-5;
+    const STEP2: f64 = 1e-3;
+    const TOL: f64 = 1e-6;
+
+    /// `d/ds f(z + s a)` at 0, 2nd-order central difference.
+    fn d1(f: &impl Fn(&[f64]) -> f64, z: &[f64], a: &[f64]) -> f64 {
+        let at = |s: f64| {
+            let p: Vec<f64> = z.iter().zip(a).map(|(x, d)| x + s * d).collect();
+            f(&p)
+        };
+        (at(STEP1) - at(-STEP1)) / (2.0 * STEP1)
+    }
+
+    /// `∂²/∂s∂t f(z + s a + t b)` at 0: mixed central differences, Richardson-extrapolated.
+    fn d2(f: &impl Fn(&[f64]) -> f64, z: &[f64], a: &[f64], b: &[f64]) -> f64 {
+        let at = |s: f64, t: f64| {
+            let p: Vec<f64> = z
+                .iter()
+                .zip(a.iter().zip(b))
+                .map(|(x, (da, db))| x + s * da + t * db)
+                .collect();
+            f(&p)
+        };
+        let mixed = |h: f64| (at(h, h) - at(h, -h) - at(-h, h) + at(-h, -h)) / (4.0 * h * h);
+        (4.0 * mixed(STEP2 / 2.0) - mixed(STEP2)) / 3.0
+    }
+
+    fn unit(len: usize, i: usize) -> Vec<f64> {
+        let mut e = vec![0.0; len];
+        e[i] = 1.0;
+        e
+    }
+
+    fn close(what: &str, ad: f64, fd: f64, scale: f64) -> Result<(), TestCaseError> {
+        prop_assert!(
+            (ad - fd).abs() <= TOL * (1.0 + scale),
+            "{what}: automatic {ad:e}, finite differences {fd:e} (scale {scale:e})"
+        );
+        Ok(())
+    }
+
+    /// Every derived quantity of `model` at `(q, q̇)` against finite differences.
+    fn check_model<const N: usize, L: HybridLagrangian>(
+        model: &L,
+        q: &[f64],
+        v: &[f64],
+    ) -> Result<(), TestCaseError> {
+        assert_eq!(model.dimension(), N);
+        // L and h as functions of z = (q, q̇), resp. q.
+        let lz = |z: &[f64]| model.lagrangian::<f64>(&z[..N], &z[N..]);
+        let z: Vec<f64> = q.iter().chain(v).copied().collect();
+        let l_scale = lz(&z).abs()
+            + model.lagrangian::<f64>(q, &[0.0; N]).abs()
+            + (lz(&z) - model.lagrangian::<f64>(q, &[0.0; N])).abs();
+        let in_q = |d: &[f64]| -> Vec<f64> { d.iter().copied().chain([0.0; N]).collect() };
+        let in_v = |d: &[f64]| -> Vec<f64> { [0.0; N].iter().copied().chain(d.iter().copied()).collect() };
+
+        // M = ∂²L/∂q̇².
+        let terms = lagrangian_terms::<N, L>(model, q, v);
+        let mass = mass_matrix::<N, L>(model, q, v);
+        prop_assert_eq!(mass, terms.mass, "mass_matrix and lagrangian_terms disagree");
+        for i in 0..N {
+            for j in 0..N {
+                let fd = d2(&lz, &z, &in_v(&unit(N, i)), &in_v(&unit(N, j)));
+                close(&format!("M[{i}][{j}]"), mass[(i, j)], fd, l_scale)?;
+            }
+        }
+
+        // force = ∂L/∂q − (∂²L/∂q̇∂q) q̇, by nested differences.
+        for i in 0..N {
+            let dl_dq = d1(&lz, &z, &in_q(&unit(N, i)));
+            let mixed = d2(&lz, &z, &in_v(&unit(N, i)), &in_q(v));
+            close(&format!("force[{i}]"), terms.force[i], dl_dq - mixed, l_scale)?;
+        }
+
+        // The Euler–Lagrange equation itself: with q̈ = M⁻¹ force,
+        // d/dt ∂L/∂q̇_i along (q̇, q̈) equals ∂L/∂q_i.
+        if let Some(chol) = nalgebra::Cholesky::new(terms.mass) {
+            let acc = chol.solve(&terms.force);
+            let flow: Vec<f64> = v.iter().chain(acc.iter()).copied().collect();
+            for i in 0..N {
+                let d_dt = d2(&lz, &z, &in_v(&unit(N, i)), &flow);
+                let dl_dq = d1(&lz, &z, &in_q(&unit(N, i)));
+                close(&format!("Euler–Lagrange residual [{i}]"), d_dt, dl_dq, l_scale)?;
+            }
+        }
+
+        // The energy q̇ᵀ ∂L/∂q̇ − L.
+        let p_dot_v: f64 = (0..N).map(|i| v[i] * d1(&lz, &z, &in_v(&unit(N, i)))).sum();
+        close("energy", energy(model, q, v), p_dot_v - lz(&z), l_scale)?;
+
+        // The constraints: h, A, A q̇, Ȧ q̇ = q̇ᵀ ∇²h q̇, and guard_along.
+        for index in 0..model.constraints().len() {
+            let hq = |x: &[f64]| model.constraint::<f64>(index, x);
+            let h = hq(q);
+            let c = constraint_terms::<N, L>(model, index, q, v);
+            let h_scale = h.abs() + 1.0;
+            // The real part is the same arithmetic as the f64 evaluation.
+            prop_assert!((c.h - h).abs() <= 1e-14 * h_scale, "h: {} vs {}", c.h, h);
+            for i in 0..N {
+                let fd = d1(&hq, q, &unit(N, i));
+                close(&format!("A[{i}] of constraint {index}"), c.gradient[i], fd, h_scale)?;
+            }
+            let a_q_dot: f64 = c.gradient.iter().zip(v).map(|(a, x)| a * x).sum();
+            prop_assert!(
+                (c.a_q_dot - a_q_dot).abs() <= 1e-12 * (1.0 + a_q_dot.abs()),
+                "A q̇ = {} but A·q̇ = {}",
+                c.a_q_dot,
+                a_q_dot
+            );
+            close("A q̇", c.a_q_dot, d1(&hq, q, v), h_scale)?;
+            close("Ȧ q̇", c.a_dot_q_dot, d2(&hq, q, v, v), h_scale)?;
+
+            let (g, g_dot, g_ddot) = guard_along(model, index, q, v);
+            prop_assert_eq!(g, c.h, "guard_along's h");
+            let tight = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()));
+            prop_assert!(tight(g_dot, c.a_q_dot), "guard_along ḣ {g_dot} vs A q̇ {}", c.a_q_dot);
+            prop_assert!(
+                tight(g_ddot, c.a_dot_q_dot),
+                "guard_along ḧ {g_ddot} vs Ȧ q̇ {}",
+                c.a_dot_q_dot
+            );
+        }
+        Ok(())
+    }
+
+    /// A test model with a configuration-dependent, non-diagonal and velocity-dependent (not
+    /// quadratic) kinetic term and two curved constraints, to exercise every term of the
+    /// derivatives that the four example models leave at zero.
+    /// `M = [[3 + 2cos q2 + 1.2 q̇1², 1 + cos q2], [1 + cos q2, 1]]`, `det = 2 − cos²q2 + 1.2 q̇1² > 0`.
+    struct Coupled {
+        constraints: [Constraint; 2],
+    }
+
+    impl HybridLagrangian for Coupled {
+        fn dimension(&self) -> usize {
+            2
+        }
+        fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
+            let c2 = q[1].cos();
+            (c2 * 2.0 + 3.0) * v[0] * v[0] * 0.5
+                + (c2 + 1.0) * v[0] * v[1]
+                + v[1] * v[1] * 0.5
+                + v[0].powi(4) * 0.1
+                + (q[0].cos() + (q[0] + q[1]).cos()) * 9.81
+        }
+        fn constraints(&self) -> &[Constraint] {
+            &self.constraints
+        }
+        fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D {
+            match index {
+                0 => q[0].cos() + 1.5 - (q[0] + q[1]).sin().powi(2) * 0.5,
+                _ => q[0] * q[1].exp() - q[1] * q[1] * 0.3,
+            }
+        }
+    }
+
+    fn vec_in(range: std::ops::Range<f64>, n: usize) -> impl Strategy<Value = Vec<f64>> {
+        prop::collection::vec(range, n)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+        #[test]
+        fn bouncing_ball_derivatives(q in vec_in(-5.0..5.0, 1), v in vec_in(-5.0..5.0, 1)) {
+            check_model::<1, _>(&BouncingBall::new(1.3, 9.81, 0.5), &q, &v)?;
+        }
+
+        #[test]
+        fn ball_on_sine_derivatives(q in vec_in(-4.0..4.0, 3), v in vec_in(-3.0..3.0, 3)) {
+            check_model::<3, _>(&BallOnSine::paper().model, &q, &v)?;
+            check_model::<3, _>(&BallOnSine::new(2.5, 9.8, 0.9), &q, &v)?;
+        }
+
+        #[test]
+        fn cart_pendulum_derivatives(q in vec_in(-3.2..3.2, 2), v in vec_in(-3.0..3.0, 2)) {
+            check_model::<2, _>(&CartPendulum::demo().model, &q, &v)?;
+        }
+
+        #[test]
+        fn spherical_pendulum_derivatives(
+            theta in 0.2..2.9f64,
+            phi in -3.2..3.2f64,
+            v in vec_in(-3.0..3.0, 2),
+        ) {
+            check_model::<2, _>(&SphericalPendulum::demo().model, &[theta, phi], &v)?;
+        }
+
+        #[test]
+        fn coupled_model_derivatives(q in vec_in(-3.2..3.2, 2), v in vec_in(-2.0..2.0, 2)) {
+            let model = Coupled {
+                constraints: [Constraint::new("a", 0.5), Constraint::new("b", 0.5)],
+            };
+            check_model::<2, _>(&model, &q, &v)?;
+        }
+
+        /// Closed form for the paper's ball on the sinusoid (Example 6):
+        /// `L = ½ m |ẋ|² − m g x3` gives `M = m I`, force `= (0, 0, −m g)`;
+        /// `h = x3 − sin x2` gives `A = (0, −cos x2, 1)`, `Ȧ q̇ = q̇ᵀ∇²h q̇ = sin(x2) ẋ2²`;
+        /// energy `½ m |ẋ|² + m g x3`.
+        #[test]
+        fn ball_on_sine_closed_form(q in vec_in(-4.0..4.0, 3), v in vec_in(-3.0..3.0, 3)) {
+            let (m, g) = (2.5, 9.8);
+            let model = BallOnSine::new(m, g, 0.9);
+            let terms = lagrangian_terms::<3, _>(&model, &q, &v);
+            for i in 0..3 {
+                for j in 0..3 {
+                    prop_assert_eq!(terms.mass[(i, j)], if i == j { m } else { 0.0 });
+                }
+            }
+            prop_assert_eq!(terms.force[0], 0.0);
+            prop_assert_eq!(terms.force[1], 0.0);
+            prop_assert!((terms.force[2] + m * g).abs() <= 1e-14 * m * g);
+            let c = constraint_terms::<3, _>(&model, 0, &q, &v);
+            let exact = |a: f64, b: f64| (a - b).abs() <= 1e-15 * (1.0 + b.abs());
+            prop_assert!(exact(c.h, q[2] - q[1].sin()));
+            prop_assert!(exact(c.gradient[0], 0.0) && exact(c.gradient[2], 1.0));
+            prop_assert!(exact(c.gradient[1], -q[1].cos()), "A[1] = {}", c.gradient[1]);
+            prop_assert!(exact(c.a_q_dot, v[2] - q[1].cos() * v[1]));
+            prop_assert!(
+                (c.a_dot_q_dot - q[1].sin() * v[1] * v[1]).abs() <= 1e-14 * (1.0 + v[1] * v[1]),
+                "Ȧ q̇ = {} but sin(x2) ẋ2² = {}", c.a_dot_q_dot, q[1].sin() * v[1] * v[1]
+            );
+            let e = 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) + m * g * q[2];
+            prop_assert!((energy(&model, &q, &v) - e).abs() <= 1e-13 * (1.0 + e.abs()));
+        }
+
+        /// The energies in closed form, `T + V` (REFERENCE §3's Lagrangians).
+        #[test]
+        fn energies_closed_form(q in vec_in(-3.0..3.0, 2), v in vec_in(-3.0..3.0, 2)) {
+            let rel = |a: f64, b: f64| (a - b).abs() <= 1e-13 * (1.0 + b.abs());
+            let ball = BouncingBall::new(1.3, 9.81, 0.5);
+            let e_ball = 0.5 * 1.3 * v[0] * v[0] + 1.3 * 9.81 * q[0];
+            prop_assert!(rel(energy(&ball, &q[..1], &v[..1]), e_ball));
+
+            let cart = CartPendulum::demo().model;
+            let (mc, mb, l, g) = (10.0, 5.0, 10.0, 9.8);
+            let (th, thd, xd) = (q[0], v[0], v[1]);
+            let e_cart = 0.5 * (mc + mb) * xd * xd + mb * l * th.cos() * xd * thd
+                + 0.5 * mb * l * l * thd * thd + mb * g * l * th.cos();
+            prop_assert!(rel(energy(&cart, &q, &v), e_cart), "{} vs {}", energy(&cart, &q, &v), e_cart);
+
+            let sph = SphericalPendulum::demo().model;
+            let e_sph = 0.5 * 100.0 * (thd * thd + th.sin().powi(2) * v[1] * v[1])
+                + 9.8 * 10.0 * th.cos();
+            prop_assert!(rel(energy(&sph, &q, &v), e_sph), "{} vs {}", energy(&sph, &q, &v), e_sph);
+        }
+    }
+}

@@ -55,7 +55,7 @@ fn constraint_direction<const N: usize>(
     let w = chol.solve(&c.gradient);
     let s = c.gradient.dot(&w);
     // s = |A|²/μ with μ an eigenvalue of M: compare with |A|² · |w|/|A| to be scale-free.
-    if !(s > 0.0) || s <= 1e-14 * c.gradient.norm() * w.norm() || c.gradient.norm() == 0.0 {
+    if s.is_nan() || s <= 0.0 || s <= 1e-14 * c.gradient.norm() * w.norm() || c.gradient.norm() == 0.0 {
         return Err(DynamicsError::DegenerateConstraint { constraint: index });
     }
     Ok((w, s))
@@ -232,7 +232,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             h: c.h.abs(),
             a_q_dot: c.a_q_dot.abs(),
         };
-        if !(residuals.h <= 1e-12 * q_scale) {
+        if residuals.h.is_nan() || residuals.h > 1e-12 * q_scale {
             return Err(DynamicsError::Projection {
                 constraint: index,
                 residual: residuals.h,

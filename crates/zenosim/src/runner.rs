@@ -219,9 +219,9 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             self.commit_step()?;
             return Ok(Next::Continue);
         };
-        let mut before = vec![0.0; 2 * self.n];
-        self.stepper.interpolate(t_event, &mut before);
         self.emit_grid_before(t_event)?;
+        let hint = self.stepper.suggested_step();
+        let before = self.state_at(t_event)?;
         let (q, q_dot) = before.split_at(self.n);
         let normal = self.normal(index, t_event, q, q_dot)?;
         if normal.a_q_dot > 0.0 || (normal.a_q_dot == 0.0 && normal.h_ddot_free > 0.0) {
@@ -230,11 +230,35 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             if self.no_progress(t_event) {
                 return self.stuck_at(index, t_event, &before);
             }
-            let hint = self.stepper.suggested_step();
             self.restart(t_event, &before, Some(hint))?;
             return Ok(Next::Continue);
         }
-        self.impact(index, t_event, before, normal)
+        self.impact(index, t_event, before, normal, hint)
+    }
+
+    /// The state at `t` inside the last accepted step, by Runge–Kutta steps from the step's
+    /// start rather than from the dense output: an event restarts the integration from this
+    /// state, so it must carry the step's local error, not the (lower-order) interpolant's.
+    /// Leaves the stepper at `t`.
+    fn state_at(&mut self, t: f64) -> Result<Vec<f64>, Error> {
+        let t0 = self.stepper.t_previous();
+        let y0 = self.stepper.y_previous().to_vec();
+        if t <= t0 {
+            return Ok(y0);
+        }
+        let mut eqs = self.equations();
+        let h = t - t0;
+        let result = self
+            .stepper
+            .start(&mut eqs, t0, &y0, Some(h))
+            .and_then(|()| {
+                while self.stepper.t() < t {
+                    self.stepper.step(&mut eqs, t, h)?;
+                }
+                Ok(())
+            });
+        result.map_err(|e| self.step_error(e))?;
+        Ok(self.stepper.y().to_vec())
     }
 
     /// The earliest crossing of any guard (except `skip`) in `[t0, t1]`, on the dense output.
@@ -277,7 +301,14 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         Ok(found)
     }
 
-    fn impact(&mut self, index: usize, t: f64, before: Vec<f64>, normal: Normal) -> Result<Next, Error> {
+    fn impact(
+        &mut self,
+        index: usize,
+        t: f64,
+        before: Vec<f64>,
+        normal: Normal,
+        hint: f64,
+    ) -> Result<Next, Error> {
         let e = self.sim.model.constraints()[index].restitution;
         let h: f64 = self.sim.model.constraint(index, &before[..self.n]);
         if let ZenoStrategy::Epsilon(eps) = self.sim.options.zeno {
@@ -322,7 +353,6 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 ZenoStrategy::Epsilon(_) => {}
             }
         }
-        let hint = self.stepper.suggested_step();
         let hint = match prediction {
             Some(p) if p.next_flight > 0.0 => {
                 self.flight_bound = 1.5 * p.next_flight;
@@ -507,15 +537,14 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         self.w = w;
         if let Some(c) = crossing {
             let t = c.t_violating;
-            let mut state = vec![0.0; 2 * n];
-            self.stepper.interpolate(t, &mut state);
+            self.emit_grid_before(t)?;
+            let mut state = self.state_at(t)?;
             {
                 let (q, q_dot) = state.split_at_mut(n);
                 self.mech
                     .project(index, q, q_dot)
                     .map_err(|err| self.dynamics_error(err, t, &state.clone()))?;
             }
-            self.emit_grid_before(t)?;
             return self.liftoff(index, t, state);
         }
         // Drift: put the step's end back on h = 0, A q̇ = 0.

@@ -71,7 +71,7 @@ impl<'a, L: HybridLagrangian> Simulation<'a, L> {
             let h: f64 = model.constraint(index, q0);
             let scale = q0.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
             // A start on the surface may carry round-off (h = −1e-17 for x3 = sin x2).
-            if !(h >= -1e-12 * scale) {
+            if h.is_nan() || h < -1e-12 * scale {
                 return Err(Error::Inadmissible {
                     constraint: c.name.clone(),
                     h,

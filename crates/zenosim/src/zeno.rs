@@ -66,7 +66,7 @@ impl Prediction {
     /// The prediction from the normal velocity `v⁺ = A q̇⁺ ≥ 0` and the free normal acceleration
     /// `ḧ`; `None` when `ḧ ≥ 0` (the body is not pushed back: no accumulation).
     pub fn new(v_plus: f64, h_ddot: f64, e: f64) -> Option<Self> {
-        if !(h_ddot < 0.0) {
+        if h_ddot.is_nan() || h_ddot >= 0.0 {
             return None;
         }
         let next_flight = 2.0 * v_plus.max(0.0) / -h_ddot;

@@ -10,6 +10,7 @@ use super::{OdeSystem, Stats, Tolerances};
 pub(super) const FSAL: usize = 12;
 
 /// Work buffers of DOP853.
+#[derive(Clone, Debug)]
 pub(super) struct Work {
     /// Stage derivatives `k_1 ..= k_16`; `k[0]` must hold `f(t, y)` before a trial.
     pub(super) k: [Vec<f64>; STAGES],

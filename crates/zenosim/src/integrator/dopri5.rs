@@ -63,6 +63,7 @@ pub(super) const D: [f64; STAGES] = [
 ];
 
 /// Work buffers of DOPRI5.
+#[derive(Clone, Debug)]
 pub(super) struct Work {
     /// Stage derivatives `k_1 ..= k_7`; `k[0]` must hold `f(t, y)` before a trial.
     pub(super) k: [Vec<f64>; STAGES],

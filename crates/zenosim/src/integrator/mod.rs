@@ -30,10 +30,14 @@
 //! for the step accepted right after a rejection.
 //!
 //! Two refinements concern the step *size proposal* only: a step shortened to
-//! land on `t_stop` or to respect `h_max` (and accepted without rejection) does
-//! not lower the proposal below the one it was shortened from; and a trial in
-//! which the right-hand side fails or produces non-finite values is rejected
-//! with `h *= 0.25`.
+//! land on `t_stop` or to respect `h_max`, and accepted without rejection with
+//! `fac >= 1`, does not lower the proposal below the one it was shortened
+//! from; and a trial in which the right-hand side fails or produces non-finite
+//! values is rejected with `h *= 0.25`.
+//!
+//! The first step is the caller's hint or Hairer's `hinit` (II.4, "Starting
+//! step size"). A step is a *step-size underflow* when it is smaller than
+//! `16 * EPSILON * max(|t|, 1)` without landing on `t_stop`.
 
 #![warn(missing_docs)]
 
@@ -99,7 +103,7 @@ impl Method {
 pub struct Tolerances {
     /// Relative tolerance (non-negative).
     pub rtol: f64,
-    /// Absolute tolerance (non-negative; `rtol + atol` must be positive).
+    /// Absolute tolerance (positive, so that the error weights never vanish).
     pub atol: f64,
 }
 

@@ -83,15 +83,22 @@ impl Stepper {
             Dense::Pending => {}
         }
         let (t0, h) = (self.t_prev, self.h_last);
+        // The field-wise form of `step_end()` (the work buffers are borrowed mutably).
+        let y1 = if self.end_replaced {
+            &self.y_end
+        } else {
+            &self.y
+        };
         match &mut self.work {
             Work::Dop853(w) => {
-                dop853::prepare_dense(w, sys, &mut self.stats, t0, h, &self.y_prev, &self.y)
-                    .map_err(|failure| match failure {
+                dop853::prepare_dense(w, sys, &mut self.stats, t0, h, &self.y_prev, y1).map_err(
+                    |failure| match failure {
                         EvalFailure::Rhs(source) => StepError::Rhs { t: t0, source },
                         EvalFailure::NonFinite => StepError::NonFinite { t: t0 },
-                    })?
+                    },
+                )?
             }
-            Work::Dopri5(w) => dopri5::prepare_dense(w, h, &self.y_prev, &self.y),
+            Work::Dopri5(w) => dopri5::prepare_dense(w, h, &self.y_prev, y1),
         }
         self.dense = Dense::Ready;
         Ok(())
@@ -101,8 +108,9 @@ impl Stepper {
     ///
     /// Meant for `t` in `[t_previous(), t()]`, where it is of order 7 (DOP853)
     /// or 4 (DOPRI5) and reproduces `y_previous()` and `y()` exactly at the end
-    /// points; outside it extrapolates the polynomial. After a (re)start the
-    /// step has length zero and `out` is set to `y()`.
+    /// points (after [`replace_state`](Stepper::replace_state): the end state
+    /// before the replacement); outside it extrapolates the polynomial. After a
+    /// (re)start the step has length zero and `out` is set to `y()`.
     ///
     /// # Panics
     /// If [`prepare_dense`](Stepper::prepare_dense) was not called since the
@@ -121,9 +129,10 @@ impl Stepper {
             return;
         }
         let theta = (t - self.t_prev) / width;
+        let (y0, y1) = (&self.y_prev[..], self.step_end());
         match &self.work {
-            Work::Dop853(w) => dop853::interpolate(w, theta, &self.y_prev, &self.y, out),
-            Work::Dopri5(w) => dopri5::interpolate(w, theta, &self.y_prev, &self.y, out),
+            Work::Dop853(w) => dop853::interpolate(w, theta, y0, y1, out),
+            Work::Dopri5(w) => dopri5::interpolate(w, theta, y0, y1, out),
         }
     }
 }

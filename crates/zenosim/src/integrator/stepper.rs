@@ -7,6 +7,7 @@ use super::{dop853, dopri5, Method, OdeSystem, Stats, StepError, Tolerances};
 /// Method-specific work buffers (one per stepper, so the size difference of
 /// the variants does not matter and boxing would only add an indirection).
 #[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug)]
 pub(super) enum Work {
     Dop853(dop853::Work),
     Dopri5(dopri5::Work),
@@ -31,6 +32,7 @@ pub(super) enum Dense {
 /// [`prepare_dense`](Stepper::prepare_dense) it can be evaluated anywhere in
 /// between with [`interpolate`](Stepper::interpolate). Integration backwards in
 /// time works by passing a `t_stop < t()`.
+#[derive(Clone, Debug)]
 pub struct Stepper {
     pub(super) method: Method,
     pub(super) control: Control,
@@ -49,6 +51,10 @@ pub struct Stepper {
     pub(super) y_prev: Vec<f64>,
     pub(super) dy_prev: Vec<f64>,
     pub(super) y_new: Vec<f64>,
+    /// End state of the last accepted step once `replace_state` replaced `y`.
+    pub(super) y_end: Vec<f64>,
+    /// Whether `y_end` (rather than `y`) holds the end of the last step.
+    pub(super) end_replaced: bool,
     pub(super) scratch: Vec<f64>,
     pub(super) stats: Stats,
 }
@@ -57,12 +63,13 @@ impl Stepper {
     /// Allocates a stepper for systems of the given dimension.
     ///
     /// # Panics
-    /// If `dimension == 0`, or a tolerance is negative or not finite, or both are 0.
+    /// If `dimension == 0`, `atol` is not positive, or a tolerance is not
+    /// finite or negative.
     pub fn new(method: Method, dimension: usize, tolerances: Tolerances) -> Self {
         let Tolerances { rtol, atol } = tolerances;
         assert!(dimension > 0, "Stepper::new: dimension must be positive");
         assert!(
-            rtol.is_finite() && atol.is_finite() && rtol >= 0.0 && atol >= 0.0 && rtol + atol > 0.0,
+            rtol.is_finite() && atol.is_finite() && rtol >= 0.0 && atol > 0.0,
             "Stepper::new: invalid tolerances {tolerances:?}"
         );
         let n = dimension;
@@ -86,6 +93,8 @@ impl Stepper {
             y_prev: vec![0.0; n],
             dy_prev: vec![0.0; n],
             y_new: vec![0.0; n],
+            y_end: vec![0.0; n],
+            end_replaced: false,
             scratch: vec![0.0; n],
             stats: Stats::default(),
         }
@@ -97,6 +106,8 @@ impl Stepper {
     /// `hinit` (HNW I, II.4) probes forward in time and costs one more
     /// evaluation; if that probe fails, its first guess is used. Afterwards
     /// `t_previous() == t()` and the "last step" has length zero.
+    ///
+    /// On error the stepper is not started (a new `start` is needed).
     ///
     /// # Panics
     /// If `y.len()` or `sys.dimension()` differs from the stepper's dimension,
@@ -144,8 +155,11 @@ impl Stepper {
 
     /// Replace the current state (same t) after an external projection; re-evaluates f; keeps the step size.
     ///
-    /// Like [`start`](Stepper::start) it makes the last step degenerate
-    /// (`t_previous() == t()`). On error the stepper is left unchanged.
+    /// The last accepted step is kept as computed: `t_previous()`,
+    /// `y_previous()` and its continuous extension (also if it is prepared
+    /// only afterwards) still describe the step ending at the state before the
+    /// replacement; the next step starts from the new state. On error the
+    /// stepper is left unchanged.
     ///
     /// # Panics
     /// If the stepper was not started or `y` has the wrong length.
@@ -170,9 +184,12 @@ impl Stepper {
         if !all_finite(&self.y_new) || !all_finite(&self.scratch) {
             return Err(StepError::NonFinite { t });
         }
+        if !self.end_replaced {
+            std::mem::swap(&mut self.y_end, &mut self.y);
+            self.end_replaced = true;
+        }
         std::mem::swap(&mut self.y, &mut self.y_new);
         std::mem::swap(&mut self.dy, &mut self.scratch);
-        self.restart_here();
         Ok(())
     }
 
@@ -243,8 +260,8 @@ impl Stepper {
                         fac = fac.min(1.0);
                     }
                     let mut h_new = h_abs * fac;
-                    if !rejected && h_abs < proposal {
-                        // Shortened by t_stop or h_max only: keep the proposal.
+                    if !rejected && h_abs < proposal && fac >= 1.0 {
+                        // Shortened by t_stop or h_max, and easy: keep the proposal.
                         h_new = h_new.max(proposal);
                     }
                     self.accept(t_end, hs, h_new.min(f64::MAX));
@@ -274,6 +291,7 @@ impl Stepper {
         self.h_next = h_next;
         std::mem::swap(&mut self.y_prev, &mut self.y);
         std::mem::swap(&mut self.y, &mut self.y_new);
+        self.end_replaced = false;
         std::mem::swap(&mut self.dy_prev, &mut self.dy);
         match &self.work {
             Work::Dop853(w) => self.dy.copy_from_slice(&w.k[dop853::FSAL]),
@@ -282,12 +300,23 @@ impl Stepper {
         self.dense = Dense::Pending;
     }
 
+    /// End state of the last accepted step (differs from `y` after `replace_state`).
+    #[inline]
+    pub(super) fn step_end(&self) -> &[f64] {
+        if self.end_replaced {
+            &self.y_end
+        } else {
+            &self.y
+        }
+    }
+
     /// Makes the current state the (zero-length) last step.
     fn restart_here(&mut self) {
         self.t_prev = self.t;
         self.y_prev.copy_from_slice(&self.y);
         self.dy_prev.copy_from_slice(&self.dy);
         self.h_last = 0.0;
+        self.end_replaced = false;
         self.dense = Dense::Ready;
     }
 }

@@ -2,7 +2,7 @@
 //! failing and non-finite right-hand sides, restarts.
 
 use super::tests_support::{
-    integrate, FailAfter, Linear, Oscillator, RefuseNegative, Refused, Riccati, METHODS,
+    integrate, max_diff, FailAfter, Linear, Oscillator, RefuseNegative, Refused, Riccati, METHODS,
 };
 use super::{Method, StepError, Stepper, Tolerances};
 
@@ -232,23 +232,44 @@ fn blow_up_returns_an_error_and_never_hangs() {
 }
 
 #[test]
-fn replace_state_reevaluates_and_keeps_step_size() {
+fn replace_state_reevaluates_and_keeps_the_last_step() {
+    // Oscillator from (1, 0): the last step's extension stays that of the step
+    // as computed; the next step starts from the replaced state.
     for method in METHODS {
-        let mut sys = Oscillator { calls: 0 };
-        let mut st = Stepper::new(method, 2, Tolerances::default());
-        st.start(&mut sys, 0.0, &[1.0, 0.0], None).unwrap();
-        st.step(&mut sys, 1.0, f64::INFINITY).unwrap();
-        st.step(&mut sys, 1.0, f64::INFINITY).unwrap();
-        let (t, h, calls) = (st.t(), st.suggested_step(), sys.calls);
-        st.replace_state(&mut sys, &[0.5, 0.25]).unwrap();
-        assert_eq!(sys.calls, calls + 1);
-        assert_eq!((st.t(), st.t_previous(), st.suggested_step()), (t, t, h));
-        assert_eq!((st.y(), st.dy()), (&[0.5, 0.25][..], &[0.25, -0.5][..]));
-        let mut out = [0.0; 2];
-        st.interpolate(t, &mut out);
-        assert_eq!(out, [0.5, 0.25]);
-        st.step(&mut sys, 1.0, f64::INFINITY).unwrap();
-        assert_eq!(st.y_previous(), &[0.5, 0.25]);
+        for prepare_before in [true, false] {
+            let mut sys = Oscillator { calls: 0 };
+            let mut st = Stepper::new(method, 2, Tolerances::default());
+            st.start(&mut sys, 0.0, &[1.0, 0.0], None).unwrap();
+            st.step(&mut sys, 1.0, f64::INFINITY).unwrap();
+            st.step(&mut sys, 1.0, f64::INFINITY).unwrap();
+            if prepare_before {
+                st.prepare_dense(&mut sys).unwrap();
+            }
+            let (t0, t, h, calls) = (st.t_previous(), st.t(), st.suggested_step(), sys.calls);
+            let (y0, y1) = (st.y_previous().to_vec(), st.y().to_vec());
+            st.replace_state(&mut sys, &[0.5, 0.25]).unwrap();
+            assert_eq!(sys.calls, calls + 1);
+            assert_eq!((st.t(), st.t_previous(), st.suggested_step()), (t, t0, h));
+            assert_eq!((st.y(), st.dy()), (&[0.5, 0.25][..], &[0.25, -0.5][..]));
+            assert_eq!(st.y_previous(), &y0[..]);
+            st.prepare_dense(&mut sys).unwrap();
+            let mut out = [0.0; 2];
+            st.interpolate(t, &mut out);
+            assert_eq!(
+                out,
+                &y1[..],
+                "{method:?}: extension ends at the computed state"
+            );
+            let mid = 0.5 * (t0 + t);
+            st.interpolate(mid, &mut out);
+            assert!(
+                max_diff(&out, &[mid.cos(), -mid.sin()]) < 1e-9,
+                "{method:?}: {out:?}"
+            );
+            st.step(&mut sys, 1.0, f64::INFINITY).unwrap();
+            assert_eq!(st.y_previous(), &[0.5, 0.25]);
+            assert_eq!(st.dy_previous(), &[0.25, -0.5]);
+        }
     }
 }
 

@@ -1,0 +1,180 @@
+//! The paper's Example 6 (ball on `x3 = sin x2`, `e = 0.6`) and the authors' demo (`e = 0.9`).
+
+use zenosim::models::BallOnSine;
+use zenosim::{
+    Completion, Derived, EventKind, Execution, Mode, Outcome, OutputGrid, Simulation,
+    SimulationOptions, Trajectory, ZenoKind, ZenoStrategy,
+};
+
+fn run_paper(options: SimulationOptions) -> (Execution, Trajectory) {
+    let ex = BallOnSine::paper();
+    let mut trajectory = Trajectory::default();
+    let run = Simulation::new(&ex.model, &ex.q0, &ex.q_dot0, options)
+        .unwrap()
+        .run(&mut trajectory);
+    (run, trajectory)
+}
+
+fn paper_options() -> SimulationOptions {
+    SimulationOptions {
+        t_end: BallOnSine::paper().t_end,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn the_completed_system_runs_to_the_stop_time_past_the_zeno_point() {
+    let (run, trajectory) = run_paper(paper_options());
+    assert_eq!(run.outcome, Outcome::Finished);
+    assert_eq!(run.t_final, 6.0);
+    assert_eq!(run.zeno.len(), 1);
+    let z = &run.zeno[0];
+    assert_eq!(z.kind, ZenoKind::Genuine);
+    // The paper: the plain simulation "gets stuck at around 2.04".
+    assert!((2.0..2.1).contains(&z.t_zeno), "τ∞ = {}", z.t_zeno);
+    // Near the Zeno point the flight times shrink by e = 0.6 (REFERENCE §1).
+    assert!((z.ratio.unwrap() - 0.6).abs() < 1e-4, "{:?}", z.ratio);
+    // After it, the ball slides along the surface (Fig. 5): it moves through a trough, so x2
+    // changes direction at least once on the constrained interval.
+    let after: Vec<_> = trajectory
+        .points
+        .iter()
+        .filter(|p| p.t > z.t_switch && p.mode != Mode::Free)
+        .collect();
+    assert!(after.len() > 20);
+    let turns = after
+        .windows(2)
+        .filter(|w| w[0].q_dot[1].signum() != w[1].q_dot[1].signum())
+        .count();
+    assert!(turns >= 1, "the ball should oscillate along the surface");
+}
+
+#[test]
+fn x1_moves_uniformly_through_flights_impacts_the_switch_and_the_constrained_motion() {
+    // x1 is absent from L and h: x1 = 0.5 t exactly (conservation law).
+    let (_, trajectory) = run_paper(paper_options());
+    for p in &trajectory.points {
+        assert!((p.q[0] - 0.5 * p.t).abs() <= 1e-9, "{p:?}");
+        assert!((p.q_dot[0] - 0.5).abs() <= 1e-9, "{p:?}");
+    }
+}
+
+#[test]
+fn the_constrained_motion_stays_on_the_surface_and_keeps_its_energy() {
+    let (run, trajectory) = run_paper(paper_options());
+    let ex = BallOnSine::paper();
+    let derived = Derived::new(&ex.model).unwrap();
+    let zeno = &run.zeno[0];
+    // R∞ lands exactly on h = 0, A q̇ = 0.
+    let (h, _) = derived.constraint(0, &zeno.point.q);
+    let a_q_dot = derived.normal_velocity(0, &zeno.point.q, &zeno.point.q_dot);
+    assert!(h.abs() <= 1e-12 && a_q_dot.abs() <= 1e-12, "{h:e} {a_q_dot:e}");
+    let constrained: Vec<_> = trajectory
+        .points
+        .iter()
+        .filter(|p| matches!(p.mode, Mode::Constrained(_)))
+        .collect();
+    let e0 = constrained[0].energy;
+    for p in &constrained {
+        let a_q_dot = derived.normal_velocity(0, &p.q, &p.q_dot);
+        assert!(p.h[0].abs() <= 1e-9 && a_q_dot.abs() <= 1e-9, "{p:?}");
+        // No lift-off on this run: the surface pushes all along.
+        assert!(p.lambda[0] <= 0.0, "{p:?}");
+        // Energy is conserved on the constraint, to the integration tolerance.
+        assert!((p.energy - e0).abs() <= 1e-8 * (1.0 + e0.abs()), "{} vs {e0}", p.energy);
+    }
+}
+
+#[test]
+fn without_completion_the_run_stops_by_itself_near_t_2_04() {
+    let (auto, _) = run_paper(paper_options());
+    let (off, trajectory) = run_paper(SimulationOptions {
+        zeno: ZenoStrategy::Off,
+        ..paper_options()
+    });
+    let Outcome::ZenoStalled { t_zeno, constraint } = off.outcome else {
+        panic!("expected a stall, got {:?}", off.outcome);
+    };
+    assert_eq!(constraint, 0);
+    // The paper's Fig. 4: stuck at about 2.04; the same τ∞ as the completed run predicts.
+    assert!((2.0..2.1).contains(&t_zeno));
+    assert!((t_zeno - auto.zeno[0].t_zeno).abs() < 1e-8);
+    assert!(off.t_final < t_zeno);
+    assert!(off.events.iter().all(|e| e.kind == EventKind::Impact));
+    assert!(trajectory.points.iter().all(|p| p.h[0] >= -1e-9));
+}
+
+#[test]
+fn the_papers_epsilon_rule_lands_close_to_auto() {
+    // ε = 1e-3 (the authors' demos). The switch is earlier, and what it changes after the Zeno
+    // point is of order |A q̇|·T_rem, far below ε.
+    let (auto, _) = run_paper(paper_options());
+    let (eps, _) = run_paper(SimulationOptions {
+        zeno: ZenoStrategy::Epsilon(1e-3),
+        ..paper_options()
+    });
+    assert_eq!(eps.outcome, Outcome::Finished);
+    assert!(eps.zeno[0].t_switch < auto.zeno[0].t_switch);
+    assert!(eps.stats.impacts < auto.stats.impacts);
+    for (a, b) in auto.final_state.q.iter().zip(&eps.final_state.q) {
+        assert!((a - b).abs() < 1e-6, "{a} vs {b}");
+    }
+}
+
+#[test]
+fn the_papers_own_completion_map_also_lands_on_the_surface() {
+    let (run, _) = run_paper(SimulationOptions {
+        completion: Completion::ModelMap,
+        ..paper_options()
+    });
+    assert_eq!(run.outcome, Outcome::Finished);
+    let point = &run.zeno[0].point;
+    // The paper's map: x3 = sin x2, ẋ3 = cos(x2) ẋ2, with x2 and ẋ2 kept from the free state.
+    let before = &run
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::Zeno)
+        .unwrap()
+        .before;
+    assert_eq!(point.q[1], before.q[1]);
+    assert_eq!(point.q_dot[1], before.q_dot[1]);
+    assert!((point.q[2] - point.q[1].sin()).abs() < 1e-15);
+}
+
+#[test]
+fn a_uniform_output_grid_samples_every_dt_and_every_event() {
+    let dt = 0.01;
+    let (run, trajectory) = run_paper(SimulationOptions {
+        output: OutputGrid::Uniform(dt),
+        ..paper_options()
+    });
+    let grid: Vec<_> = trajectory
+        .points
+        .iter()
+        .map(|p| p.t)
+        .filter(|t| !run.events.iter().any(|e| e.t == *t))
+        .collect();
+    assert_eq!(grid.len(), 601, "0, 0.01, …, 6");
+    for (k, t) in grid.iter().enumerate() {
+        assert!((t - k as f64 * dt).abs() < 1e-12, "{k}: {t}");
+    }
+    // Two points (before and after) for every event.
+    let at_events = trajectory.points.len() - grid.len();
+    assert_eq!(at_events, 2 * run.events.len());
+}
+
+#[test]
+fn the_authors_demo_with_e_0_9_runs_to_its_stop_time() {
+    let ex = BallOnSine::demo();
+    let options = SimulationOptions {
+        t_end: ex.t_end,
+        ..Default::default()
+    };
+    let run = Simulation::new(&ex.model, &ex.q0, &ex.q_dot0, options)
+        .unwrap()
+        .run(&mut ());
+    assert_eq!(run.outcome, Outcome::Finished);
+    assert!(run.zeno.iter().all(|z| z.kind == ZenoKind::Genuine));
+    assert!((run.zeno[0].ratio.unwrap() - 0.9).abs() < 1e-4);
+    assert!((run.final_state.q[0] - 0.5 * ex.t_end).abs() < 1e-9);
+}

@@ -1,0 +1,117 @@
+//! The classic bouncing ball against its closed form (REFERENCE §3):
+//! `τ_k = t1 (1 + 2e (1 − e^(k−1))/(1 − e))`, `τ∞ = t1 (1+e)/(1−e)`, `t1 = √(2 h0/g)`.
+
+use zenosim::models::BouncingBall;
+use zenosim::{
+    EventKind, Execution, Mode, Outcome, Simulation, SimulationOptions, Trajectory, ZenoKind,
+    ZenoStrategy,
+};
+
+const G: f64 = 9.81;
+const H0: f64 = 1.0;
+
+fn run(e: f64, zeno: ZenoStrategy, t_end: f64) -> (BouncingBall, Execution, Trajectory) {
+    let ball = BouncingBall::new(1.0, G, e);
+    let options = SimulationOptions {
+        t_end,
+        zeno,
+        ..Default::default()
+    };
+    let mut trajectory = Trajectory::default();
+    let run = Simulation::new(&ball, &[H0], &[0.0], options)
+        .unwrap()
+        .run(&mut trajectory);
+    (ball, run, trajectory)
+}
+
+fn relative(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+#[test]
+fn zeno_time_and_first_30_impacts_match_the_closed_form() {
+    for e in [0.5, 0.8] {
+        let (ball, run, _) = run(e, ZenoStrategy::Auto, 10.0);
+        assert_eq!(run.outcome, Outcome::Finished);
+        let tau_inf = ball.zeno_time(H0);
+        assert_eq!(run.zeno.len(), 1, "e = {e}");
+        let z = &run.zeno[0];
+        assert_eq!(z.kind, ZenoKind::Genuine);
+        assert!(
+            relative(z.t_zeno, tau_inf) < 1e-9,
+            "e = {e}: τ∞ = {} vs closed form {tau_inf}",
+            z.t_zeno
+        );
+        let impacts = run.impact_times(0);
+        assert!(impacts.len() >= 30, "e = {e}: only {} impacts", impacts.len());
+        for (k, t) in impacts.iter().take(30).enumerate() {
+            let exact = ball.impact_time(H0, k as u32 + 1);
+            assert!(
+                relative(*t, exact) < 1e-9,
+                "e = {e}: impact {} at {t} vs closed form {exact}",
+                k + 1
+            );
+        }
+        // The measured ratio of flight times tends to e (REFERENCE §1).
+        assert!((z.ratio.unwrap() - e).abs() < 1e-6, "{:?}", z.ratio);
+        // The switch comes before τ∞, and only just.
+        assert!(z.t_switch < tau_inf && tau_inf - z.t_switch < 1e-8);
+    }
+}
+
+#[test]
+fn after_the_zeno_point_the_ball_rests_on_the_floor() {
+    let (ball, run, trajectory) = run(0.5, ZenoStrategy::Auto, 5.0);
+    let tau_inf = ball.zeno_time(H0);
+    assert_eq!(run.final_mode, Mode::Constrained(zenosim::ActiveSet::single(0)));
+    for p in trajectory.points.iter().filter(|p| p.t > tau_inf) {
+        assert!(p.q[0].abs() <= 1e-12 && p.q_dot[0].abs() <= 1e-12, "{p:?}");
+        // The floor carries the weight: λ = −m g (contact force −Aᵀλ = m g up).
+        assert!((p.lambda[0] + G).abs() < 1e-9, "{p:?}");
+    }
+}
+
+#[test]
+fn a_plastic_impact_is_a_chattering_zeno_point_at_the_first_impact() {
+    // e = 0: CZ of the paper, τ∞ = τ1 = t1.
+    let (ball, run, _) = run(0.0, ZenoStrategy::Auto, 2.0);
+    let t1 = ball.impact_time(H0, 1);
+    assert_eq!(run.zeno.len(), 1);
+    let z = &run.zeno[0];
+    assert_eq!(z.kind, ZenoKind::Chattering);
+    assert!(relative(z.t_zeno, t1) < 1e-12 && relative(z.t_switch, t1) < 1e-12);
+    assert_eq!(run.stats.impacts, 1);
+}
+
+#[test]
+fn off_stalls_at_the_zeno_point_and_never_falls_through() {
+    let (ball, run, trajectory) = run(0.5, ZenoStrategy::Off, 10.0);
+    let tau_inf = ball.zeno_time(H0);
+    match run.outcome {
+        Outcome::ZenoStalled { t_zeno, .. } => assert!(relative(t_zeno, tau_inf) < 1e-9),
+        other => panic!("expected a stall, got {other:?}"),
+    }
+    assert!(run.t_final < tau_inf);
+    assert!(trajectory.points.iter().all(|p| p.q[0] >= -1e-12));
+    assert!(run.events.iter().all(|e| e.kind == EventKind::Impact));
+}
+
+#[test]
+fn the_epsilon_rule_switches_on_the_pre_impact_state() {
+    let eps = 1e-3;
+    let (ball, run, _) = run(0.5, ZenoStrategy::Epsilon(eps), 5.0);
+    let zeno = run
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::Zeno)
+        .unwrap();
+    // The last free state before the switch is within ε of the surface, moving in.
+    assert!(zeno.before.q[0].abs() <= eps && zeno.before.q_dot[0].abs() <= eps);
+    assert!(zeno.before.q_dot[0] <= 0.0);
+    // Every earlier impact came in faster than ε.
+    for e in run.events.iter().filter(|e| e.kind == EventKind::Impact) {
+        assert!(e.before.q_dot[0].abs() > eps);
+    }
+    // The prediction of τ∞ from the pre-impact state is still the closed form (flat floor).
+    assert!(relative(run.zeno[0].t_zeno, ball.zeno_time(H0)) < 1e-9);
+}

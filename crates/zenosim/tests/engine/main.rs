@@ -1,0 +1,10 @@
+//! The engine's integration tests, in one binary (each test binary instantiates the generic
+//! engine anew, so one binary builds much faster than many).
+
+mod ball_on_sine;
+mod bouncing_ball;
+mod conservation;
+mod errors;
+mod liftoff;
+mod multiple_constraints;
+mod properties;
