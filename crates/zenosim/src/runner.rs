@@ -79,6 +79,8 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     /// The next time on a uniform output grid.
     next_output: f64,
     wants_samples: bool,
+    /// The last sample sent, so that a state shared by two events is sent once.
+    last_sample: (f64, Mode, Vec<f64>),
     scratch: Vec<f64>,
     w: Vec<f64>,
     h_buf: Vec<f64>,
@@ -119,6 +121,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             stuck: 0,
             flight_bound: f64::INFINITY,
             next_output: 0.0,
+            last_sample: (f64::NAN, Mode::Free, vec![f64::NAN; 2 * n]),
             scratch: vec![0.0; 2 * n],
             w: vec![0.0; n],
             h_buf: vec![0.0; m],
@@ -678,6 +681,12 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         if !self.wants_samples {
             return Ok(());
         }
+        let (last_t, last_mode, last_y) = &mut self.last_sample;
+        if *last_t == t && *last_mode == mode && last_y.as_slice() == y {
+            return Ok(());
+        }
+        (*last_t, *last_mode) = (t, mode);
+        last_y.copy_from_slice(y);
         let (q, q_dot) = y.split_at(self.n);
         let model = self.sim.model;
         for (i, h) in self.h_buf.iter_mut().enumerate() {

@@ -10,12 +10,16 @@
 use crate::events::time_resolution;
 use crate::execution::ZenoKind;
 
+/// Flights over which the ratio is measured: a geometric mean over several flights divides the
+/// timing noise of the last (shortest) ones by their number.
+const RATIO_BASELINE: usize = 6;
+
 /// The impacts of the sequence that is accumulating on one constraint.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct ImpactSequence {
     constraint: Option<usize>,
-    /// The last three impact times, newest last.
-    times: [f64; 3],
+    /// The last impact times, newest last.
+    times: [f64; RATIO_BASELINE + 2],
     count: usize,
 }
 
@@ -28,7 +32,8 @@ impl ImpactSequence {
                 ..Self::default()
             };
         }
-        self.times = [self.times[1], self.times[2], t];
+        self.times.rotate_left(1);
+        self.times[RATIO_BASELINE + 1] = t;
         self.count += 1;
     }
 
@@ -42,14 +47,17 @@ impl ImpactSequence {
         self.count
     }
 
-    /// The ratio of the last two flight times, once there are three impacts.
+    /// The ratio of successive flight times: the geometric mean over the last
+    /// [`RATIO_BASELINE`] flights (fewer early in a sequence), once there are three impacts.
     pub fn ratio(&self) -> Option<f64> {
         if self.count < 3 {
             return None;
         }
-        let last = self.times[2] - self.times[1];
-        let before = self.times[1] - self.times[0];
-        (before > 0.0).then(|| last / before)
+        let span = (self.count - 2).min(RATIO_BASELINE);
+        let newest = RATIO_BASELINE + 1;
+        let last = self.times[newest] - self.times[newest - 1];
+        let first = self.times[newest - span] - self.times[newest - span - 1];
+        (first > 0.0 && last >= 0.0).then(|| (last / first).powf(1.0 / span as f64))
     }
 }
 
@@ -128,6 +136,9 @@ mod tests {
         assert_eq!(s.ratio(), None);
         s.record(0, 2.5);
         assert_eq!(s.ratio(), Some(0.5));
+        // Flights 1, 0.5, 0.125: the geometric mean of the ratios 0.5 and 0.25.
+        s.record(0, 2.625);
+        assert!((s.ratio().unwrap() - 0.125_f64.sqrt()).abs() < 1e-15);
         s.record(1, 3.0);
         assert_eq!((s.count(), s.ratio()), (1, None));
     }

@@ -52,8 +52,9 @@ fn zeno_time_and_first_30_impacts_match_the_closed_form() {
                 k + 1
             );
         }
-        // The measured ratio of flight times tends to e (REFERENCE §1).
-        assert!((z.ratio.unwrap() - e).abs() < 1e-6, "{:?}", z.ratio);
+        // The measured ratio of flight times tends to e (REFERENCE §1). It comes from the last
+        // flights, ~1e-11 s long, timed to an ulp of t ≈ 1.4: about 3e-5 relative.
+        assert!((z.ratio.unwrap() - e).abs() < 1e-4, "{:?}", z.ratio);
         // The switch comes before τ∞, and only just.
         assert!(z.t_switch < tau_inf && tau_inf - z.t_switch < 1e-8);
     }
@@ -87,11 +88,12 @@ fn a_plastic_impact_is_a_chattering_zeno_point_at_the_first_impact() {
 fn off_stalls_at_the_zeno_point_and_never_falls_through() {
     let (ball, run, trajectory) = run(0.5, ZenoStrategy::Off, 10.0);
     let tau_inf = ball.zeno_time(H0);
-    match run.outcome {
-        Outcome::ZenoStalled { t_zeno, .. } => assert!(relative(t_zeno, tau_inf) < 1e-9),
-        other => panic!("expected a stall, got {other:?}"),
-    }
-    assert!(run.t_final < tau_inf);
+    let Outcome::ZenoStalled { t_zeno, .. } = run.outcome else {
+        panic!("expected a stall, got {:?}", run.outcome);
+    };
+    assert!(relative(t_zeno, tau_inf) < 1e-9);
+    // It stops where f64 time can no longer separate the impacts from τ∞.
+    assert!(run.t_final <= t_zeno && t_zeno - run.t_final < 1e-12);
     assert!(trajectory.points.iter().all(|p| p.q[0] >= -1e-12));
     assert!(run.events.iter().all(|e| e.kind == EventKind::Impact));
 }
