@@ -761,13 +761,30 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         }
     }
 
-    fn simultaneous(&self, t: f64, first: usize, second: usize) -> Error {
+    /// Two contacts at once: keeps the execution up to the contact (its state committed and
+    /// sent), and returns the error that ends the run there.
+    fn simultaneous(&mut self, t: f64, first: usize, second: usize) -> Error {
         let name = |i: usize| self.sim.model.constraints()[i].name.clone();
-        Error::SimultaneousContact {
+        let error = Error::SimultaneousContact {
             t,
             first: name(first),
             second: name(second),
-        }
+        };
+        let committed = self.emit_grid_before(t).and_then(|()| {
+            let mut state = self.state_at(t)?;
+            if let Mode::Constrained(active) = self.mode {
+                let index = active.only().expect("one active constraint");
+                let (q, q_dot) = state.split_at_mut(self.n);
+                self.mech
+                    .project(index, q, q_dot)
+                    .map_err(|err| self.dynamics_error(err, t, &self.y.clone()))?;
+            }
+            self.emit(t, &state, self.mode)?;
+            self.t = t;
+            self.y.copy_from_slice(&state);
+            Ok(())
+        });
+        committed.err().unwrap_or(error)
     }
 }
 
