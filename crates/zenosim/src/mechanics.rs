@@ -215,30 +215,33 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             let chol = cholesky(mass_matrix::<N, L>(self.model, q, q_dot))?;
             let (w, s) = constraint_direction(&chol, &c, index)?;
             let step = c.h / s;
-            let step_size = step.abs() * w.norm();
-            // Converged: the Newton step is at round-off, or h has stopped decreasing.
-            if c.h == 0.0 || step_size <= 4.0 * f64::EPSILON * q_scale || c.h.abs() >= best {
-                break;
+            // Converged: the Newton step is at round-off, or h has stopped decreasing. Then the
+            // velocity: the plastic impact at this position, with this factorisation.
+            if c.h == 0.0 || step.abs() * w.norm() <= 4.0 * f64::EPSILON * q_scale || c.h.abs() >= best {
+                let scale = c.a_q_dot / s;
+                for (v, wi) in q_dot.iter_mut().zip(w.iter()) {
+                    *v -= scale * wi;
+                }
+                let v = SVector::<f64, N>::from_column_slice(&q_dot[..N]);
+                let residuals = Residuals {
+                    h: c.h.abs(),
+                    a_q_dot: c.gradient.dot(&v).abs(),
+                };
+                if residuals.h > 1e-12 * q_scale {
+                    break;
+                }
+                return Ok(residuals);
             }
             best = c.h.abs();
             for (x, wi) in q.iter_mut().zip(w.iter()) {
                 *x -= step * wi;
             }
         }
-        // Velocity: the plastic impact at the projected position.
-        self.impact_n::<N>(index, 0.0, q, q_dot)?;
         let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
-        let residuals = Residuals {
-            h: c.h.abs(),
-            a_q_dot: c.a_q_dot.abs(),
-        };
-        if residuals.h.is_nan() || residuals.h > 1e-12 * q_scale {
-            return Err(DynamicsError::Projection {
-                constraint: index,
-                residual: residuals.h,
-            });
-        }
-        Ok(residuals)
+        Err(DynamicsError::Projection {
+            constraint: index,
+            residual: c.h.abs(),
+        })
     }
 
     /// `M(q)` (symmetric, so row- and column-major agree) into `out` (`n²` entries); an error if it is not positive definite.

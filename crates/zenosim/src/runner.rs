@@ -76,6 +76,8 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     stuck: usize,
     /// The largest next step, from the predicted flight after an impact.
     flight_bound: f64,
+    /// `λ` of the active constraint at the start of the current step.
+    lambda_start: f64,
     /// The next time on a uniform output grid.
     next_output: f64,
     wants_samples: bool,
@@ -120,6 +122,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             last_event_t: f64::NEG_INFINITY,
             stuck: 0,
             flight_bound: f64::INFINITY,
+            lambda_start: 0.0,
             next_output: 0.0,
             last_sample: (f64::NAN, Mode::Free, vec![f64::NAN; 2 * n]),
             scratch: vec![0.0; 2 * n],
@@ -175,10 +178,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             let h_max = options.max_step.min(self.flight_bound);
             self.flight_bound = f64::INFINITY;
             let mut eqs = self.equations();
-            let stepped = self
-                .stepper
-                .step(&mut eqs, options.t_end, h_max)
-                .and_then(|()| self.stepper.prepare_dense(&mut eqs));
+            let stepped = self.stepper.step(&mut eqs, options.t_end, h_max);
             stepped.map_err(|e| self.step_error(e))?;
             let next = match self.mode {
                 Mode::Free => self.after_free_step()?,
@@ -203,6 +203,14 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             },
             n: self.n,
         }
+    }
+
+    /// Prepares the dense output of the last step (at most once per step; the stepper keeps
+    /// track).
+    fn dense(&mut self) -> Result<(), Error> {
+        let mut eqs = self.equations();
+        let prepared = self.stepper.prepare_dense(&mut eqs);
+        prepared.map_err(|e| self.step_error(e))
     }
 
     /// Restarts the integrator at `(t, y)` in the current mode.
@@ -272,6 +280,10 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         skip: Option<usize>,
     ) -> Result<Option<(usize, f64)>, Error> {
         let m = self.sim.model.constraints().len();
+        if (0..m).all(|i| Some(i) == skip) {
+            return Ok(None);
+        }
+        self.dense()?;
         let constrained = !matches!(self.mode, Mode::Free);
         let mut found: Option<(usize, f64)> = None;
         for index in (0..m).filter(|&i| Some(i) != skip) {
@@ -509,7 +521,8 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         self.restart(t, &after, None)?;
         // A constraint that cannot hold the motion (λ > 0) lets go at once.
         let (q, q_dot) = after.split_at(self.n);
-        if self.normal(index, t, q, q_dot)?.lambda() > 0.0 {
+        self.lambda_start = self.normal(index, t, q, q_dot)?.lambda();
+        if self.lambda_start > 0.0 {
             return self.liftoff(index, t, after);
         }
         Ok(Next::Continue)
@@ -519,25 +532,39 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
 
     fn after_constrained_step(&mut self, index: usize) -> Result<Next, Error> {
         let (t0, t1) = (self.stepper.t_previous(), self.stepper.t());
+        let n = self.n;
         // Another constraint reached while this one is active: a simultaneous contact.
         if let Some((other, t)) = self.earliest_crossing(t0, t1, Some(index))? {
             return Err(self.simultaneous(t, index, other));
         }
         // Lift-off: λ reaches 0 from below; reported where λ ≥ 0, where free flight is admissible.
-        let (stepper, mech, n) = (&self.stepper, self.mech, self.n);
-        let mut y = std::mem::take(&mut self.scratch);
-        let mut w = std::mem::take(&mut self.w);
-        let crossing = first_crossing(t0, t1, |t| {
-            stepper.interpolate(t, &mut y);
-            let (q, q_dot) = y.split_at_mut(n);
-            let lambda = mech
-                .project(index, q, q_dot)
-                .and_then(|_| mech.normal(index, q, q_dot, &mut w))
-                .map_or(f64::NAN, |normal| normal.lambda());
-            (-lambda, None)
-        });
-        self.scratch = y;
-        self.w = w;
+        // λ is sampled on the dense output as it is (within the tolerance of the constraint);
+        // inside the step only when its values at the ends do not rule a crossing out.
+        let lambda_start = self.lambda_start;
+        let end = self.stepper.y().to_vec();
+        let lambda_end = self.normal(index, t1, &end[..n], &end[n..])?.lambda();
+        let crossing = if lambda_end <= 0.0
+            && lambda_start.max(lambda_end) < -(lambda_end - lambda_start).abs()
+        {
+            None
+        } else {
+            self.dense()?;
+            let (stepper, mech) = (&self.stepper, self.mech);
+            let mut y = std::mem::take(&mut self.scratch);
+            let mut w = std::mem::take(&mut self.w);
+            let crossing = first_crossing(t0, t1, |t| {
+                stepper.interpolate(t, &mut y);
+                let (q, q_dot) = y.split_at(n);
+                let lambda = mech
+                    .normal(index, q, q_dot, &mut w)
+                    .map_or(f64::NAN, |normal| normal.lambda());
+                (-lambda, None)
+            });
+            self.scratch = y;
+            self.w = w;
+            crossing
+        };
+        self.lambda_start = lambda_end;
         if let Some(c) = crossing {
             let t = c.t_violating;
             self.emit_grid_before(t)?;
@@ -552,6 +579,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         }
         // Drift: put the step's end back on h = 0, A q̇ = 0.
         let mut end = self.stepper.y().to_vec();
+
         let t_end = self.stepper.t();
         {
             let (q, q_dot) = end.split_at_mut(n);
@@ -658,6 +686,10 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         if !self.wants_samples {
             return Ok(());
         }
+        if self.next_output > t || (!inclusive && self.next_output == t) {
+            return Ok(());
+        }
+        self.dense()?;
         let mut y = vec![0.0; 2 * self.n];
         while self.next_output < t || (inclusive && self.next_output == t) {
             let to = self.next_output;
