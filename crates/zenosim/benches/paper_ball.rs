@@ -16,12 +16,21 @@ fn options<M>(example: &Example<M>) -> SimulationOptions {
 }
 
 fn whole_run<M: HybridLagrangian>(c: &mut Criterion, name: &str, example: &Example<M>) {
-    let sim = Simulation::new(&example.model, &example.q0, &example.q_dot0, options(example))
-        .expect("a valid example");
+    let sim = Simulation::new(
+        &example.model,
+        &example.q0,
+        &example.q_dot0,
+        options(example),
+    )
+    .expect("a valid example");
     let run = sim.run(&mut ());
     eprintln!(
         "{name}: {:?}, {} steps ({} rejected), {} rhs evaluations, {} impacts",
-        run.outcome, run.stats.steps, run.stats.rejected_steps, run.stats.rhs_evals, run.stats.impacts
+        run.outcome,
+        run.stats.steps,
+        run.stats.rejected_steps,
+        run.stats.rhs_evals,
+        run.stats.impacts
     );
     c.bench_function(name, |b| b.iter(|| black_box(sim.run(&mut ()))));
 }
@@ -42,7 +51,11 @@ fn paper_ball(c: &mut Criterion) {
 fn demos(c: &mut Criterion) {
     whole_run(c, "demo ball on sine to t=20", &BallOnSine::demo());
     whole_run(c, "demo cart pendulum to t=40", &CartPendulum::demo());
-    whole_run(c, "demo spherical pendulum to t=35", &SphericalPendulum::demo());
+    whole_run(
+        c,
+        "demo spherical pendulum to t=35",
+        &SphericalPendulum::demo(),
+    );
     let ball = Example {
         model: BouncingBall::new(1.0, 9.81, 0.8),
         q0: vec![1.0],

@@ -21,26 +21,86 @@ pub const MAX_DIMENSION: usize = 20;
 macro_rules! with_dimension {
     ($n:expr, $N:ident => $body:expr) => {
         match $n {
-            1 => { const $N: usize = 1; $body }
-            2 => { const $N: usize = 2; $body }
-            3 => { const $N: usize = 3; $body }
-            4 => { const $N: usize = 4; $body }
-            5 => { const $N: usize = 5; $body }
-            6 => { const $N: usize = 6; $body }
-            7 => { const $N: usize = 7; $body }
-            8 => { const $N: usize = 8; $body }
-            9 => { const $N: usize = 9; $body }
-            10 => { const $N: usize = 10; $body }
-            11 => { const $N: usize = 11; $body }
-            12 => { const $N: usize = 12; $body }
-            13 => { const $N: usize = 13; $body }
-            14 => { const $N: usize = 14; $body }
-            15 => { const $N: usize = 15; $body }
-            16 => { const $N: usize = 16; $body }
-            17 => { const $N: usize = 17; $body }
-            18 => { const $N: usize = 18; $body }
-            19 => { const $N: usize = 19; $body }
-            20 => { const $N: usize = 20; $body }
+            1 => {
+                const $N: usize = 1;
+                $body
+            }
+            2 => {
+                const $N: usize = 2;
+                $body
+            }
+            3 => {
+                const $N: usize = 3;
+                $body
+            }
+            4 => {
+                const $N: usize = 4;
+                $body
+            }
+            5 => {
+                const $N: usize = 5;
+                $body
+            }
+            6 => {
+                const $N: usize = 6;
+                $body
+            }
+            7 => {
+                const $N: usize = 7;
+                $body
+            }
+            8 => {
+                const $N: usize = 8;
+                $body
+            }
+            9 => {
+                const $N: usize = 9;
+                $body
+            }
+            10 => {
+                const $N: usize = 10;
+                $body
+            }
+            11 => {
+                const $N: usize = 11;
+                $body
+            }
+            12 => {
+                const $N: usize = 12;
+                $body
+            }
+            13 => {
+                const $N: usize = 13;
+                $body
+            }
+            14 => {
+                const $N: usize = 14;
+                $body
+            }
+            15 => {
+                const $N: usize = 15;
+                $body
+            }
+            16 => {
+                const $N: usize = 16;
+                $body
+            }
+            17 => {
+                const $N: usize = 17;
+                $body
+            }
+            18 => {
+                const $N: usize = 18;
+                $body
+            }
+            19 => {
+                const $N: usize = 19;
+                $body
+            }
+            20 => {
+                const $N: usize = 20;
+                $body
+            }
             other => unreachable!("dimension {other} was checked against MAX_DIMENSION at setup"),
         }
     };
@@ -265,12 +325,17 @@ mod tests {
             + model.lagrangian::<f64>(q, &[0.0; N]).abs()
             + (lz(&z) - model.lagrangian::<f64>(q, &[0.0; N])).abs();
         let in_q = |d: &[f64]| -> Vec<f64> { d.iter().copied().chain([0.0; N]).collect() };
-        let in_v = |d: &[f64]| -> Vec<f64> { [0.0; N].iter().copied().chain(d.iter().copied()).collect() };
+        let in_v =
+            |d: &[f64]| -> Vec<f64> { [0.0; N].iter().copied().chain(d.iter().copied()).collect() };
 
         // M = ∂²L/∂q̇².
         let terms = lagrangian_terms::<N, L>(model, q, v);
         let mass = mass_matrix::<N, L>(model, q, v);
-        prop_assert_eq!(mass, terms.mass, "mass_matrix and lagrangian_terms disagree");
+        prop_assert_eq!(
+            mass,
+            terms.mass,
+            "mass_matrix and lagrangian_terms disagree"
+        );
         for i in 0..N {
             for j in 0..N {
                 let fd = d2(&lz, &z, &in_v(&unit(N, i)), &in_v(&unit(N, j)));
@@ -282,7 +347,12 @@ mod tests {
         for i in 0..N {
             let dl_dq = d1(&lz, &z, &in_q(&unit(N, i)));
             let mixed = d2(&lz, &z, &in_v(&unit(N, i)), &in_q(v));
-            close(&format!("force[{i}]"), terms.force[i], dl_dq - mixed, l_scale)?;
+            close(
+                &format!("force[{i}]"),
+                terms.force[i],
+                dl_dq - mixed,
+                l_scale,
+            )?;
         }
 
         // The Euler–Lagrange equation itself: with q̈ = M⁻¹ force,
@@ -293,7 +363,12 @@ mod tests {
             for i in 0..N {
                 let d_dt = d2(&lz, &z, &in_v(&unit(N, i)), &flow);
                 let dl_dq = d1(&lz, &z, &in_q(&unit(N, i)));
-                close(&format!("Euler–Lagrange residual [{i}]"), d_dt, dl_dq, l_scale)?;
+                close(
+                    &format!("Euler–Lagrange residual [{i}]"),
+                    d_dt,
+                    dl_dq,
+                    l_scale,
+                )?;
             }
         }
 
@@ -311,7 +386,12 @@ mod tests {
             prop_assert!((c.h - h).abs() <= 1e-14 * h_scale, "h: {} vs {}", c.h, h);
             for i in 0..N {
                 let fd = d1(&hq, q, &unit(N, i));
-                close(&format!("A[{i}] of constraint {index}"), c.gradient[i], fd, h_scale)?;
+                close(
+                    &format!("A[{i}] of constraint {index}"),
+                    c.gradient[i],
+                    fd,
+                    h_scale,
+                )?;
             }
             let a_q_dot: f64 = c.gradient.iter().zip(v).map(|(a, x)| a * x).sum();
             prop_assert!(
@@ -326,7 +406,11 @@ mod tests {
             let (g, g_dot, g_ddot) = guard_along(model, index, q, v);
             prop_assert_eq!(g, c.h, "guard_along's h");
             let tight = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()));
-            prop_assert!(tight(g_dot, c.a_q_dot), "guard_along ḣ {g_dot} vs A q̇ {}", c.a_q_dot);
+            prop_assert!(
+                tight(g_dot, c.a_q_dot),
+                "guard_along ḣ {g_dot} vs A q̇ {}",
+                c.a_q_dot
+            );
             prop_assert!(
                 tight(g_ddot, c.a_dot_q_dot),
                 "guard_along ḧ {g_ddot} vs Ȧ q̇ {}",
@@ -372,7 +456,12 @@ mod tests {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+        // Failing cases are reported, not stored next to the sources.
+        #![proptest_config(ProptestConfig {
+            cases: 200,
+            failure_persistence: None,
+            ..ProptestConfig::default()
+        })]
 
         #[test]
         fn bouncing_ball_derivatives(q in vec_in(-5.0..5.0, 1), v in vec_in(-5.0..5.0, 1)) {

@@ -92,12 +92,7 @@ fn dip(a: f64, b: f64, g: &mut impl FnMut(f64) -> (f64, Option<f64>)) -> Option<
 /// Narrows `[a, b]` with `g(b) ≤ 0` to a crossing at round-off width. If `g(a) ≤ 0` too (a start
 /// on the surface), it first probes towards `a` for an admissible point; with none, the crossing
 /// is at `a` itself.
-fn bracket(
-    a: f64,
-    ga: f64,
-    b: f64,
-    g: &mut impl FnMut(f64) -> (f64, Option<f64>),
-) -> Crossing {
+fn bracket(a: f64, ga: f64, b: f64, g: &mut impl FnMut(f64) -> (f64, Option<f64>)) -> Crossing {
     let (mut a, mut ga, mut b) = (a, ga, b);
     if ga <= 0.0 {
         let mut probe = b;
@@ -217,7 +212,10 @@ mod tests {
         };
         let c = first_crossing(t0, t0 + 1.0, &mut shifted).unwrap();
         let landing = t0 + 2.0 * 1e-3 / 9.81;
-        assert!((c.t_admissible - landing).abs() < 1e-12, "{c:?} vs {landing}");
+        assert!(
+            (c.t_admissible - landing).abs() < 1e-12,
+            "{c:?} vs {landing}"
+        );
     }
 
     #[test]
@@ -230,8 +228,11 @@ mod tests {
     fn no_crossing_no_event() {
         assert!(first_crossing(0.0, 1.0, |t| (1.0 + t, Some(1.0))).is_none());
         // A dip that stays positive.
-        assert!(first_crossing(0.0, 1.0, |t| ((t - 0.5).powi(2) + 1e-6, Some(2.0 * (t - 0.5))))
-            .is_none());
+        assert!(first_crossing(0.0, 1.0, |t| (
+            (t - 0.5).powi(2) + 1e-6,
+            Some(2.0 * (t - 0.5))
+        ))
+        .is_none());
     }
 
     #[test]

@@ -50,3 +50,8 @@ pub use model::{Constraint, HybridLagrangian, Scalar};
 pub use observer::{Observer, Point, Sample, Trajectory};
 pub use options::{Completion, OutputGrid, SimulationOptions, ZenoStrategy};
 pub use simulation::Simulation;
+
+/// The README's example, compiled and run as a doctest.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+struct ReadmeDoctests;

@@ -39,7 +39,9 @@ pub(crate) struct Residuals {
     pub a_q_dot: f64,
 }
 
-fn cholesky<const N: usize>(m: SMatrix<f64, N, N>) -> Result<Cholesky<f64, nalgebra::Const<N>>, DynamicsError> {
+fn cholesky<const N: usize>(
+    m: SMatrix<f64, N, N>,
+) -> Result<Cholesky<f64, nalgebra::Const<N>>, DynamicsError> {
     if !m.iter().all(|x| x.is_finite()) {
         return Err(DynamicsError::MassMatrix);
     }
@@ -55,7 +57,11 @@ fn constraint_direction<const N: usize>(
     let w = chol.solve(&c.gradient);
     let s = c.gradient.dot(&w);
     // s = |A|²/μ with μ an eigenvalue of M: compare with |A|² · |w|/|A| to be scale-free.
-    if s.is_nan() || s <= 0.0 || s <= 1e-14 * c.gradient.norm() * w.norm() || c.gradient.norm() == 0.0 {
+    if s.is_nan()
+        || s <= 0.0
+        || s <= 1e-14 * c.gradient.norm() * w.norm()
+        || c.gradient.norm() == 0.0
+    {
         return Err(DynamicsError::DegenerateConstraint { constraint: index });
     }
     Ok((w, s))
@@ -170,7 +176,13 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
     }
 
     /// The impact map `P`: `q̇ ← q̇ − (1+e)(A q̇)/(A M⁻¹ Aᵀ) M⁻¹ Aᵀ` for constraint `index`.
-    pub fn impact(&self, index: usize, e: f64, q: &[f64], q_dot: &mut [f64]) -> Result<(), DynamicsError> {
+    pub fn impact(
+        &self,
+        index: usize,
+        e: f64,
+        q: &[f64],
+        q_dot: &mut [f64],
+    ) -> Result<(), DynamicsError> {
         with_dimension!(self.n, N => self.impact_n::<N>(index, e, q, q_dot))
     }
 
@@ -194,7 +206,12 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
     /// The general completion `R∞` for constraint `index`: `q` onto `h = 0` by Newton steps along
     /// `M⁻¹Aᵀ`, then `q̇` by the plastic impact (`e = 0`), which keeps every momentum the constraint
     /// does not touch.
-    pub fn project(&self, index: usize, q: &mut [f64], q_dot: &mut [f64]) -> Result<Residuals, DynamicsError> {
+    pub fn project(
+        &self,
+        index: usize,
+        q: &mut [f64],
+        q_dot: &mut [f64],
+    ) -> Result<Residuals, DynamicsError> {
         with_dimension!(self.n, N => self.project_n::<N>(index, q, q_dot))
     }
 
@@ -217,7 +234,10 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             let step = c.h / s;
             // Converged: the Newton step is at round-off, or h has stopped decreasing. Then the
             // velocity: the plastic impact at this position, with this factorisation.
-            if c.h == 0.0 || step.abs() * w.norm() <= 4.0 * f64::EPSILON * q_scale || c.h.abs() >= best {
+            if c.h == 0.0
+                || step.abs() * w.norm() <= 4.0 * f64::EPSILON * q_scale
+                || c.h.abs() >= best
+            {
                 let scale = c.a_q_dot / s;
                 for (v, wi) in q_dot.iter_mut().zip(w.iter()) {
                     *v -= scale * wi;
@@ -245,7 +265,12 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
     }
 
     /// `M(q)` (symmetric, so row- and column-major agree) into `out` (`n²` entries); an error if it is not positive definite.
-    pub fn mass_matrix(&self, q: &[f64], q_dot: &[f64], out: &mut [f64]) -> Result<(), DynamicsError> {
+    pub fn mass_matrix(
+        &self,
+        q: &[f64],
+        q_dot: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), DynamicsError> {
         with_dimension!(self.n, N => {
             let m = mass_matrix::<N, L>(self.model, q, q_dot);
             out[..N * N].copy_from_slice(m.as_slice());

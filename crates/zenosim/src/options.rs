@@ -106,8 +106,16 @@ impl SimulationOptions {
                 expected: "a finite stop time > 0",
             });
         }
-        positive("rtol", self.tolerances.rtol, "a relative tolerance > 0 (e.g. 1e-10)")?;
-        positive("atol", self.tolerances.atol, "an absolute tolerance > 0 (e.g. 1e-10)")?;
+        positive(
+            "rtol",
+            self.tolerances.rtol,
+            "a relative tolerance > 0 (e.g. 1e-10)",
+        )?;
+        positive(
+            "atol",
+            self.tolerances.atol,
+            "an absolute tolerance > 0 (e.g. 1e-10)",
+        )?;
         if self.tolerances.rtol < 1e-15 {
             return Err(Error::Option {
                 option: "rtol",
@@ -117,7 +125,11 @@ impl SimulationOptions {
         }
         positive("max_step", self.max_step, "a largest step > 0")?;
         if let ZenoStrategy::Epsilon(eps) = self.zeno {
-            positive("zeno epsilon", eps, "a threshold ε > 0 (the paper uses 1e-3)")?;
+            positive(
+                "zeno epsilon",
+                eps,
+                "a threshold ε > 0 (the paper uses 1e-3)",
+            )?;
         }
         if let OutputGrid::Uniform(dt) = self.output {
             if !(dt.is_finite() && dt > 0.0) {

@@ -68,7 +68,10 @@ fn the_constrained_motion_stays_on_the_surface_and_keeps_its_energy() {
     // R∞ lands exactly on h = 0, A q̇ = 0.
     let (h, _) = derived.constraint(0, &zeno.point.q);
     let a_q_dot = derived.normal_velocity(0, &zeno.point.q, &zeno.point.q_dot);
-    assert!(h.abs() <= 1e-12 && a_q_dot.abs() <= 1e-12, "{h:e} {a_q_dot:e}");
+    assert!(
+        h.abs() <= 1e-12 && a_q_dot.abs() <= 1e-12,
+        "{h:e} {a_q_dot:e}"
+    );
     let constrained: Vec<_> = trajectory
         .points
         .iter()
@@ -81,7 +84,11 @@ fn the_constrained_motion_stays_on_the_surface_and_keeps_its_energy() {
         // No lift-off on this run: the surface pushes all along.
         assert!(p.lambda[0] <= 0.0, "{p:?}");
         // Energy is conserved on the constraint, to the integration tolerance.
-        assert!((p.energy - e0).abs() <= 1e-8 * (1.0 + e0.abs()), "{} vs {e0}", p.energy);
+        assert!(
+            (p.energy - e0).abs() <= 1e-8 * (1.0 + e0.abs()),
+            "{} vs {e0}",
+            p.energy
+        );
     }
 }
 

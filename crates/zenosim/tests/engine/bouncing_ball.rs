@@ -43,7 +43,11 @@ fn zeno_time_and_first_30_impacts_match_the_closed_form() {
             z.t_zeno
         );
         let impacts = run.impact_times(0);
-        assert!(impacts.len() >= 30, "e = {e}: only {} impacts", impacts.len());
+        assert!(
+            impacts.len() >= 30,
+            "e = {e}: only {} impacts",
+            impacts.len()
+        );
         for (k, t) in impacts.iter().take(30).enumerate() {
             let exact = ball.impact_time(H0, k as u32 + 1);
             assert!(
@@ -64,7 +68,10 @@ fn zeno_time_and_first_30_impacts_match_the_closed_form() {
 fn after_the_zeno_point_the_ball_rests_on_the_floor() {
     let (ball, run, trajectory) = run(0.5, ZenoStrategy::Auto, 5.0);
     let tau_inf = ball.zeno_time(H0);
-    assert_eq!(run.final_mode, Mode::Constrained(zenosim::ActiveSet::single(0)));
+    assert_eq!(
+        run.final_mode,
+        Mode::Constrained(zenosim::ActiveSet::single(0))
+    );
     for p in trajectory.points.iter().filter(|p| p.t > tau_inf) {
         assert!(p.q[0].abs() <= 1e-12 && p.q_dot[0].abs() <= 1e-12, "{p:?}");
         // The floor carries the weight: λ = −m g (contact force −Aᵀλ = m g up).

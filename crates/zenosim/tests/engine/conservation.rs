@@ -30,7 +30,10 @@ fn the_carts_velocity_after_the_zeno_point_is_p_x_over_the_total_mass() {
         let drift = (model.momentum_x(&p.q, &p.q_dot) - p_x).abs();
         assert!(drift <= 1e-8 * p_x.abs(), "t = {}: drift {drift:e}", p.t);
         if matches!(p.mode, Mode::Constrained(_)) {
-            assert!((p.q_dot[1] - x_dot_after).abs() <= 1e-9, "{p:?} vs {x_dot_after}");
+            assert!(
+                (p.q_dot[1] - x_dot_after).abs() <= 1e-9,
+                "{p:?} vs {x_dot_after}"
+            );
             assert!((p.q[0].abs() - std::f64::consts::FRAC_PI_2).abs() <= 1e-12);
             checked += 1;
         }
@@ -62,7 +65,10 @@ fn the_spherical_pendulums_phi_dot_after_the_zeno_point_is_sin2_theta0_phi_dot0(
         let drift = (model.momentum_phi(&p.q, &p.q_dot) - p_phi).abs();
         assert!(drift <= 1e-8 * p_phi.abs(), "t = {}: drift {drift:e}", p.t);
         if matches!(p.mode, Mode::Constrained(_)) {
-            assert!((p.q_dot[1] - phi_dot_after).abs() <= 1e-9, "{p:?} vs {phi_dot_after}");
+            assert!(
+                (p.q_dot[1] - phi_dot_after).abs() <= 1e-9,
+                "{p:?} vs {phi_dot_after}"
+            );
             checked += 1;
         }
     }

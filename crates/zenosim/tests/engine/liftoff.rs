@@ -53,7 +53,10 @@ fn a_particle_sliding_off_a_circle_leaves_where_the_closed_form_says() {
     assert_eq!(run.zeno[0].kind, ZenoKind::Chattering);
     assert_eq!(run.zeno[0].t_switch, 0.0);
     let kinds: Vec<_> = run.events.iter().map(|e| e.kind).collect();
-    assert_eq!(kinds, [EventKind::Impact, EventKind::Zeno, EventKind::Liftoff]);
+    assert_eq!(
+        kinds,
+        [EventKind::Impact, EventKind::Zeno, EventKind::Liftoff]
+    );
 
     // Closed form: energy v² = v0² + 2 g R (1 − cos θ) and zero normal force
     // g cos θ = v²/R give cos θ* = 2/3 + v0²/(3 g R), v*² = g R cos θ*.
@@ -62,8 +65,14 @@ fn a_particle_sliding_off_a_circle_leaves_where_the_closed_form_says() {
     let (q, q_dot) = (&liftoff.after.q, &liftoff.after.q_dot);
     let cos_theta = q[1] / radius;
     let speed2 = q_dot[0] * q_dot[0] + q_dot[1] * q_dot[1];
-    assert!((cos_theta - cos_star).abs() < 1e-9, "{cos_theta} vs {cos_star}");
-    assert!((speed2 - gravity * radius * cos_star).abs() < 1e-8, "{speed2}");
+    assert!(
+        (cos_theta - cos_star).abs() < 1e-9,
+        "{cos_theta} vs {cos_star}"
+    );
+    assert!(
+        (speed2 - gravity * radius * cos_star).abs() < 1e-8,
+        "{speed2}"
+    );
     // On the surface at the moment it leaves, moving along it.
     let derived = Derived::new(&model).unwrap();
     assert!(derived.constraint(0, q).0.abs() < 1e-12);
@@ -102,9 +111,15 @@ fn a_ball_that_flies_off_a_crest_lands_and_bounces_again() {
         .iter()
         .position(|e| e.kind == EventKind::Liftoff)
         .expect("the ball must lift off");
-    let after: Vec<_> = run.events[first_liftoff + 1..].iter().map(|e| e.kind).collect();
+    let after: Vec<_> = run.events[first_liftoff + 1..]
+        .iter()
+        .map(|e| e.kind)
+        .collect();
     assert_eq!(after.first(), Some(&EventKind::Impact), "{after:?}");
-    assert!(after.contains(&EventKind::Zeno), "it settles again: {after:?}");
+    assert!(
+        after.contains(&EventKind::Zeno),
+        "it settles again: {after:?}"
+    );
     // Never through the surface, never gaining energy.
     let e0 = trajectory.points[0].energy;
     for p in &trajectory.points {

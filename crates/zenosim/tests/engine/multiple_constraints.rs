@@ -137,11 +137,18 @@ fn a_wall_reached_while_sliding_on_the_floor_stops_with_a_clear_error() {
     assert_eq!((first.as_str(), second.as_str()), ("floor", "right"));
     assert!((t - 1.6).abs() < 1e-9, "{t}");
     let message = error.to_string();
-    assert!(message.contains("'floor'") && message.contains("'right'") && message.contains("not supported"));
+    assert!(
+        message.contains("'floor'")
+            && message.contains("'right'")
+            && message.contains("not supported")
+    );
     // Everything up to the contact is kept, on the floor, and the last sample is the contact.
     assert_eq!(run.t_final, *t);
     assert!(matches!(run.final_mode, Mode::Constrained(_)));
     let last = trajectory.points.last().unwrap();
     assert_eq!(last.t, *t);
-    assert!((last.q[0] - 1.0).abs() < 1e-9 && last.q[1].abs() < 1e-12, "{last:?}");
+    assert!(
+        (last.q[0] - 1.0).abs() < 1e-9 && last.q[1].abs() < 1e-12,
+        "{last:?}"
+    );
 }
