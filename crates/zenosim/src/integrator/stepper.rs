@@ -1,6 +1,8 @@
 //! The [`Stepper`]: state, step loop with error control, dense-output dispatch.
 
-use super::control::{hinit, underflow_threshold, Control, EvalFailure, Trial, FAILURE_SHRINK};
+use super::control::{
+    hinit, underflow_threshold, Control, EvalFailure, Trial, FAILURE_SHRINK, INITIAL_ERR_PREVIOUS,
+};
 use super::kernels::{all_finite, eval};
 use super::{dop853, dopri5, Method, OdeSystem, Stats, StepError, Tolerances};
 
@@ -46,6 +48,8 @@ pub struct Stepper {
     pub(super) h_last: f64,
     /// Proposed magnitude of the next step.
     pub(super) h_next: f64,
+    /// The error norm of the last accepted step (Hairer's `facold`), for the PI controller.
+    pub(super) err_previous: f64,
     pub(super) y: Vec<f64>,
     pub(super) dy: Vec<f64>,
     pub(super) y_prev: Vec<f64>,
@@ -88,6 +92,7 @@ impl Stepper {
             t_prev: 0.0,
             h_last: 0.0,
             h_next: 0.0,
+            err_previous: INITIAL_ERR_PREVIOUS,
             y: vec![0.0; n],
             dy: vec![0.0; n],
             y_prev: vec![0.0; n],
@@ -134,6 +139,7 @@ impl Stepper {
         if !all_finite(&self.y) || !all_finite(&self.dy) {
             return Err(StepError::NonFinite { t });
         }
+        self.err_previous = INITIAL_ERR_PREVIOUS;
         self.h_next = match h_hint {
             Some(h) if h.is_finite() && h != 0.0 => h.abs(),
             _ => hinit(
@@ -255,7 +261,8 @@ impl Stepper {
             };
             match outcome {
                 Trial::Accepted(err) => {
-                    let mut fac = self.control.accept_factor(err);
+                    let mut fac = self.control.accept_factor(err, self.err_previous);
+                    self.err_previous = err.max(INITIAL_ERR_PREVIOUS);
                     if rejected {
                         fac = fac.min(1.0);
                     }
