@@ -125,6 +125,8 @@ pub(crate) struct ConstraintTerms<const N: usize> {
     pub a_q_dot: f64,
     /// `Ȧ q̇ = q̇ᵀ ∇²h q̇`.
     pub a_dot_q_dot: f64,
+    /// `|∇²h q̇|`.
+    pub hessian_q_dot_norm: f64,
 }
 
 fn constants<D: Copy, const N: usize>(x: &[f64], lift: impl Fn(f64) -> D) -> [D; N] {
@@ -217,6 +219,7 @@ pub(crate) fn constraint_terms<const N: usize, L: HybridLagrangian>(
         gradient: h.eps1.unwrap_generic(Const::<N>, U1),
         a_q_dot: h.eps2.unwrap_generic(U1, U1)[0],
         a_dot_q_dot: hessian_q_dot.dot(&v),
+        hessian_q_dot_norm: hessian_q_dot.norm(),
     }
 }
 

@@ -50,8 +50,15 @@ pub enum Error {
         expected: &'static str,
     },
     /// The initial state is not finite.
-    #[error("the initial state has a non-finite entry: give finite numbers")]
-    NonFiniteInitialState,
+    #[error("{what}[{index}] is {value}: give finite initial values")]
+    NonFiniteInitialState {
+        /// `"q0"` or `"q_dot0"`.
+        what: &'static str,
+        /// The entry.
+        index: usize,
+        /// Its value.
+        value: f64,
+    },
     /// The initial state violates a constraint.
     #[error("the initial state violates constraint '{constraint}': h = {h:e} < 0; start on the admissible side h >= 0")]
     Inadmissible {
@@ -93,7 +100,7 @@ pub enum Error {
         h: f64,
     },
     /// Two contacts at once.
-    #[error("at t = {t}: constraints '{first}' and '{second}' are in contact at the same time; simultaneous contacts are not supported yet")]
+    #[error("at t = {t}: constraints '{first}' and '{second}' are in contact at the same time; simultaneous contacts are not supported yet: change the initial state or the geometry so that the contacts come one at a time")]
     SimultaneousContact {
         /// When.
         t: f64,
@@ -103,7 +110,7 @@ pub enum Error {
         second: String,
     },
     /// The projection onto `h = 0` did not converge.
-    #[error("at t = {t}: projecting onto constraint '{constraint}' left |h| = {residual:e}; the constraint surface may be singular here")]
+    #[error("at t = {t}: projecting onto constraint '{constraint}' left |h| = {residual:e}; h = 0 may be singular or unreachable here: write h so that ∂h/∂q does not vanish on h = 0, or use the default completion (the general projection)")]
     Projection {
         /// When.
         t: f64,

@@ -76,6 +76,10 @@ pub(crate) struct Normal {
     pub h_ddot_free: f64,
     /// `A M⁻¹ Aᵀ`.
     pub s: f64,
+    /// `|A|`.
+    pub gradient_norm: f64,
+    /// `|∇²h q̇| / |q̇|`: the curvature of `h` along the motion (0 at rest).
+    pub curvature: f64,
 }
 
 impl Normal {
@@ -166,10 +170,13 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
             let (dir, s) = constraint_direction(&chol, &c, index)?;
             w[..N].copy_from_slice(dir.as_slice());
+            let speed = SVector::<f64, N>::from_column_slice(&q_dot[..N]).norm();
             let normal = Normal {
                 a_q_dot: c.a_q_dot,
                 h_ddot_free: c.gradient.dot(&acc) + c.a_dot_q_dot,
                 s,
+                gradient_norm: c.gradient.norm(),
+                curvature: if speed > 0.0 { c.hessian_q_dot_norm / speed } else { 0.0 },
             };
             if normal.h_ddot_free.is_finite() { Ok(normal) } else { Err(DynamicsError::NonFinite) }
         })

@@ -168,13 +168,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         self.restart(0.0, &y0, None)?;
         self.emit_grid_through(0.0)?;
         while self.t < options.t_end {
-            if self.stepper.stats().steps >= options.max_steps {
-                return Err(Error::Limit {
-                    t: self.t,
-                    what: "steps",
-                    limit: options.max_steps,
-                });
-            }
+            self.check_step_limit()?;
             let h_max = options.max_step.min(self.flight_bound);
             self.flight_bound = f64::INFINITY;
             let mut eqs = self.equations();
@@ -205,6 +199,19 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         }
     }
 
+    /// The step limit, before every step (those that refine an event's state included).
+    fn check_step_limit(&self) -> Result<(), Error> {
+        let limit = self.sim.options.max_steps;
+        if self.stepper.stats().steps >= limit {
+            return Err(Error::Limit {
+                t: self.t,
+                what: "steps",
+                limit,
+            });
+        }
+        Ok(())
+    }
+
     /// Prepares the dense output of the last step (at most once per step; the stepper keeps
     /// track).
     fn dense(&mut self) -> Result<(), Error> {
@@ -233,8 +240,20 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         self.emit_grid_before(t_event)?;
         let hint = self.stepper.suggested_step();
         let before = self.state_at(t_event)?;
+        let (t_event, before) = self.admissible_side(index, t_event, before)?;
         let (q, q_dot) = before.split_at(self.n);
         let normal = self.normal(index, t_event, q, q_dot)?;
+        // A surface where ∂h/∂q vanishes (h = x³ at x = 0) has no normal to bounce along: below
+        // the position tolerance, h is dominated by its curvature, not by its gradient.
+        let tol = self.sim.options.tolerances;
+        let q_tol = tol.atol + tol.rtol * q.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        if normal.gradient_norm <= 0.5 * normal.curvature * q_tol {
+            let error = Error::DegenerateConstraint {
+                t: t_event,
+                constraint: self.sim.model.constraints()[index].name.clone(),
+            };
+            return Err(self.fail_at(t_event, &before, error));
+        }
         if normal.a_q_dot > 0.0 || (normal.a_q_dot == 0.0 && normal.h_ddot_free > 0.0) {
             // Moving away at the root: a round-off crossing, not an impact (REFERENCE §4).
             self.spurious += 1;
@@ -245,6 +264,35 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             return Ok(Next::Continue);
         }
         self.impact(index, t_event, before, normal, hint)
+    }
+
+    /// The event state on the admissible side: the refined state of [`Self::state_at`] may be
+    /// a little past the surface (the root was found on the interpolant); Newton steps in time
+    /// on the refining step's dense output bring it back to `h ≥ 0` (REFERENCE §4).
+    fn admissible_side(
+        &mut self,
+        index: usize,
+        t: f64,
+        mut y: Vec<f64>,
+    ) -> Result<(f64, Vec<f64>), Error> {
+        let n = self.n;
+        let (h, _, _) = guard_along(self.sim.model, index, &y[..n], &y[n..]);
+        if h >= 0.0 || self.stepper.t() != t {
+            return Ok((t, y));
+        }
+        self.dense()?;
+        let mut t_new = t;
+        for _ in 0..8 {
+            let (h, h_dot, _) = guard_along(self.sim.model, index, &y[..n], &y[n..]);
+            if h >= 0.0 || h_dot >= 0.0 || h.is_nan() {
+                break;
+            }
+            // h + ḣ δ = 0, δ = −h/ḣ < 0, with a margin so that the next try lands on h ≥ 0.
+            let back = (h / h_dot) * 1.001 + f64::EPSILON * t_new.abs();
+            t_new = (t_new - back).max(self.stepper.t_previous());
+            self.stepper.interpolate(t_new, &mut y);
+        }
+        Ok((t_new, y))
     }
 
     /// The state at `t` inside the last accepted step, by Runge–Kutta steps from the step's
@@ -259,16 +307,13 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         }
         let mut eqs = self.equations();
         let h = t - t0;
-        let result = self
-            .stepper
-            .start(&mut eqs, t0, &y0, Some(h))
-            .and_then(|()| {
-                while self.stepper.t() < t {
-                    self.stepper.step(&mut eqs, t, h)?;
-                }
-                Ok(())
-            });
-        result.map_err(|e| self.step_error(e))?;
+        let started = self.stepper.start(&mut eqs, t0, &y0, Some(h));
+        started.map_err(|e| self.step_error(e))?;
+        while self.stepper.t() < t {
+            self.check_step_limit()?;
+            let stepped = self.stepper.step(&mut eqs, t, h);
+            stepped.map_err(|e| self.step_error(e))?;
+        }
         Ok(self.stepper.y().to_vec())
     }
 
@@ -337,9 +382,10 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let mut after = before.clone();
         {
             let (q, q_dot) = after.split_at_mut(self.n);
-            self.mech
-                .impact(index, e, q, q_dot)
-                .map_err(|err| self.dynamics_error(err, t, &before))?;
+            self.mech.impact(index, e, q, q_dot).map_err(|err| {
+                let error = self.dynamics_error(err, t, &before);
+                self.fail_at(t, &before, error)
+            })?;
         }
         self.impacts += 1;
         self.record_event(EventKind::Impact, index, t, &before, &after, Mode::Free)?;
@@ -354,12 +400,15 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         if let Some(p) = prediction {
             match self.sim.options.zeno {
                 ZenoStrategy::Auto => {
-                    if self.zeno_resolved(index, t, &after, &p, &post, AUTO_ROUND_OFF_ULPS)? {
+                    // Flights shorter than f64 time resolves end the sequence in any case.
+                    if p.next_flight <= time_resolution(t)
+                        || self.zeno_resolved(index, t, &after, &p, &post, AUTO_ROUND_OFF_ULPS)?
+                    {
                         return self.switch(index, t, after, Some(p), e);
                     }
                 }
                 ZenoStrategy::Off => {
-                    if p.remaining <= time_resolution(t)
+                    if p.next_flight <= time_resolution(t)
                         || self.zeno_resolved(index, t, &after, &p, &post, OFF_ROUND_OFF_ULPS)?
                     {
                         return Ok(self.stall(index, t, &after, p, e));
@@ -434,6 +483,16 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         Ok(p.remaining * rate <= 1.0)
     }
 
+    /// Genuine when the flights measured so far shrink geometrically (positive intervals), or
+    /// when the next one is still resolvable; chattering otherwise (zero-length intervals).
+    fn zeno_kind(&self, p: &Prediction, e: f64, t: f64) -> ZenoKind {
+        if e > 0.0 && self.sequence.ratio().is_some_and(|r| r > 0.0) {
+            ZenoKind::Genuine
+        } else {
+            p.kind(e, t)
+        }
+    }
+
     /// Events that do not advance time: after [`STUCK_EVENTS`] in a row the contact is chattering.
     fn no_progress(&mut self, t: f64) -> bool {
         if t - self.last_event_t <= time_resolution(t) {
@@ -462,7 +521,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let t_zeno = t + p.remaining;
         self.zeno.push(ZenoPoint {
             constraint: index,
-            kind: p.kind(e, t),
+            kind: self.zeno_kind(&p, e, t),
             t_switch: t,
             t_zeno,
             impacts: self.sequence.count(),
@@ -492,12 +551,13 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             if self.sim.options.completion == Completion::ModelMap {
                 self.sim.model.completion_map(index, q, q_dot);
             }
-            self.mech
-                .project(index, q, q_dot)
-                .map_err(|err| self.dynamics_error(err, t, &before))?;
+            self.mech.project(index, q, q_dot).map_err(|err| {
+                let error = self.dynamics_error(err, t, &before);
+                self.fail_at(t, &before, error)
+            })?;
         }
         let (kind, remaining) = match prediction {
-            Some(p) => (p.kind(e, t), p.remaining),
+            Some(p) => (self.zeno_kind(&p, e, t), p.remaining),
             None => (ZenoKind::Chattering, 0.0),
         };
         self.zeno.push(ZenoPoint {
@@ -619,11 +679,12 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
     ) -> Result<(), Error> {
         let limit = self.sim.options.max_events;
         if self.events.len() as u64 >= limit {
-            return Err(Error::Limit {
+            let error = Error::Limit {
                 t,
                 what: "events",
                 limit,
-            });
+            };
+            return Err(self.fail_at(t, before, error));
         }
         self.emit(t, before, self.mode)?;
         let event = Event {
@@ -757,7 +818,8 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         normal.map_err(|err| {
             let mut y = q.to_vec();
             y.extend_from_slice(q_dot);
-            self.dynamics_error(err, t, &y)
+            let error = self.dynamics_error(err, t, &y);
+            self.fail_at(t, &y, error)
         })
     }
 
@@ -793,8 +855,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         }
     }
 
-    /// Two contacts at once: keeps the execution up to the contact (its state committed and
-    /// sent), and returns the error that ends the run there.
+    /// Two contacts at once: the run ends there (keeping everything up to the contact).
     fn simultaneous(&mut self, t: f64, first: usize, second: usize) -> Error {
         let name = |i: usize| self.sim.model.constraints()[i].name.clone();
         let error = Error::SimultaneousContact {
@@ -802,21 +863,29 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             first: name(first),
             second: name(second),
         };
-        let committed = self.emit_grid_before(t).and_then(|()| {
-            let mut state = self.state_at(t)?;
-            if let Mode::Constrained(active) = self.mode {
-                let index = active.only().expect("one active constraint");
-                let (q, q_dot) = state.split_at_mut(self.n);
-                self.mech
-                    .project(index, q, q_dot)
-                    .map_err(|err| self.dynamics_error(err, t, &self.y.clone()))?;
+        match self.state_at(t) {
+            Ok(mut state) => {
+                if let Mode::Constrained(active) = self.mode {
+                    let index = active.only().expect("one active constraint");
+                    let (q, q_dot) = state.split_at_mut(self.n);
+                    // Best effort: the unprojected state is within the tolerance of it.
+                    let _ = self.mech.project(index, q, q_dot);
+                }
+                self.fail_at(t, &state, error)
             }
-            self.emit(t, &state, self.mode)?;
-            self.t = t;
-            self.y.copy_from_slice(&state);
-            Ok(())
-        });
-        committed.err().unwrap_or(error)
+            Err(other) => other,
+        }
+    }
+
+    /// Ends the run at `(t, y)` with `error`, keeping the execution up to there: the output
+    /// up to `t` is sent, and `(t, y)` becomes the record's last state.
+    fn fail_at(&mut self, t: f64, y: &[f64], error: Error) -> Error {
+        // Best effort: the run is failing already; what can be sent is sent.
+        let _ = self.emit_grid_before(t);
+        let _ = self.emit(t, y, self.mode);
+        self.t = t;
+        self.y.copy_from_slice(y);
+        error
     }
 }
 

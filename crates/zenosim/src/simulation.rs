@@ -58,8 +58,10 @@ impl<'a, L: HybridLagrangian> Simulation<'a, L> {
                 });
             }
         }
-        if !q0.iter().chain(q_dot0).all(|x| x.is_finite()) {
-            return Err(Error::NonFiniteInitialState);
+        for (what, v) in [("q0", q0), ("q_dot0", q_dot0)] {
+            if let Some((index, &value)) = v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+                return Err(Error::NonFiniteInitialState { what, index, value });
+            }
         }
         for (index, c) in constraints.iter().enumerate() {
             if !(0.0..=1.0).contains(&c.restitution) {
