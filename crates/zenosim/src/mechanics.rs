@@ -16,7 +16,7 @@ use nalgebra::{Cholesky, SMatrix, SVector};
 /// A failure of the mechanics at one state; the caller adds the time and the state.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub(crate) enum DynamicsError {
-    /// `M` is not positive definite (or not finite).
+    /// `M` is not positive definite.
     #[error("the mass matrix is not positive definite")]
     MassMatrix,
     /// `A M⁻¹ Aᵀ` vanishes: `∂h/∂q = 0` where the constraint has to act.
@@ -43,7 +43,7 @@ fn cholesky<const N: usize>(
     m: SMatrix<f64, N, N>,
 ) -> Result<Cholesky<f64, nalgebra::Const<N>>, DynamicsError> {
     if !m.iter().all(|x| x.is_finite()) {
-        return Err(DynamicsError::MassMatrix);
+        return Err(DynamicsError::NonFinite);
     }
     Cholesky::new(m).ok_or(DynamicsError::MassMatrix)
 }

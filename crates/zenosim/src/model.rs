@@ -34,6 +34,10 @@ impl Constraint {
 /// unilateral constraints.
 ///
 /// `L` must be hyperregular: `M = ∂²L/∂q̇²` positive definite wherever the execution goes.
+///
+/// Mark `lagrangian` and `constraint` `#[inline]`: they are evaluated a dozen times per
+/// right-hand side over different dual numbers, and inlined the compiler folds most of that
+/// work away (the paper's ball runs about three times faster).
 /// Everything else (the Euler–Lagrange equations, `A = ∂h/∂q`, `Ȧ q̇`, the impact map, the
 /// constrained dynamics, the energy) is derived from these two functions by automatic
 /// differentiation.

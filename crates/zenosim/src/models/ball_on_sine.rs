@@ -51,6 +51,7 @@ impl HybridLagrangian for BallOnSine {
         3
     }
 
+    #[inline]
     fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
         (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * (0.5 * self.mass)
             - q[2] * (self.mass * self.gravity)
@@ -60,6 +61,7 @@ impl HybridLagrangian for BallOnSine {
         &self.constraints
     }
 
+    #[inline]
     fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
         q[2] - q[1].sin()
     }

@@ -43,6 +43,7 @@ impl HybridLagrangian for BouncingBall {
         1
     }
 
+    #[inline]
     fn lagrangian<D: Scalar>(&self, q: &[D], q_dot: &[D]) -> D {
         q_dot[0] * q_dot[0] * (0.5 * self.mass) - q[0] * (self.mass * self.gravity)
     }
@@ -51,6 +52,7 @@ impl HybridLagrangian for BouncingBall {
         &self.constraints
     }
 
+    #[inline]
     fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
         q[0]
     }

@@ -56,6 +56,7 @@ impl HybridLagrangian for CartPendulum {
         2
     }
 
+    #[inline]
     fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
         let (m, l) = (self.bob_mass, self.length);
         let (theta, theta_dot, x_dot) = (q[0], v[0], v[1]);
@@ -69,6 +70,7 @@ impl HybridLagrangian for CartPendulum {
         &self.constraints
     }
 
+    #[inline]
     fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
         q[0].cos()
     }

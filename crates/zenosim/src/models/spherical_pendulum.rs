@@ -51,6 +51,7 @@ impl HybridLagrangian for SphericalPendulum {
         2
     }
 
+    #[inline]
     fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
         let ml2 = self.mass * self.length * self.length;
         let s = q[0].sin();
@@ -62,6 +63,7 @@ impl HybridLagrangian for SphericalPendulum {
         &self.constraints
     }
 
+    #[inline]
     fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
         q[0].cos()
     }
