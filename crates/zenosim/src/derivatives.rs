@@ -9,15 +9,20 @@
 //! - the energy `q̇ᵀ ∂L/∂q̇ − L`: a scalar dual in the direction `q̇` of `q̇`.
 //!
 //! The runtime dimension is mapped to `N` by [`with_dimension!`] (up to [`MAX_DIMENSION`]).
+//! The passes are kept out of line (`#[inline(never)]`): each is compiled once per dimension
+//! and model, with the model's functions inlined into it, and shared by every caller.
 
 use crate::model::HybridLagrangian;
 use nalgebra::{Const, SMatrix, SVector, U1};
 use num_dual::{Derivative, Dual2, Dual64, DualVec, HyperDual64, HyperDualVec};
 
 /// The largest number of coordinates a model may have.
-pub const MAX_DIMENSION: usize = 20;
+///
+/// Each dimension up to it is compiled separately for every model type (the derivatives are
+/// statically sized), so it bounds the build time: 20 took twice as long to build as 6.
+pub const MAX_DIMENSION: usize = 10;
 
-/// Runs `$body` with `$N` a `const usize` equal to the runtime dimension `$n` (1..=20).
+/// Runs `$body` with `$N` a `const usize` equal to the runtime dimension `$n` (1..=10).
 macro_rules! with_dimension {
     ($n:expr, $N:ident => $body:expr) => {
         match $n {
@@ -61,46 +66,6 @@ macro_rules! with_dimension {
                 const $N: usize = 10;
                 $body
             }
-            11 => {
-                const $N: usize = 11;
-                $body
-            }
-            12 => {
-                const $N: usize = 12;
-                $body
-            }
-            13 => {
-                const $N: usize = 13;
-                $body
-            }
-            14 => {
-                const $N: usize = 14;
-                $body
-            }
-            15 => {
-                const $N: usize = 15;
-                $body
-            }
-            16 => {
-                const $N: usize = 16;
-                $body
-            }
-            17 => {
-                const $N: usize = 17;
-                $body
-            }
-            18 => {
-                const $N: usize = 18;
-                $body
-            }
-            19 => {
-                const $N: usize = 19;
-                $body
-            }
-            20 => {
-                const $N: usize = 20;
-                $body
-            }
             other => unreachable!("dimension {other} was checked against MAX_DIMENSION at setup"),
         }
     };
@@ -138,6 +103,7 @@ fn constants<D: Copy, const N: usize>(x: &[f64], lift: impl Fn(f64) -> D) -> [D;
 /// One scalar hyper-dual pass per entry of the upper triangle (`ε₁` along `q̇_i`, `ε₂` along
 /// `q̇_j`): plain `Copy` numbers that the compiler keeps in registers, which measured faster
 /// over whole runs than one pass over a hyper-dual vector with `N × N` matrices.
+#[inline(never)]
 pub(crate) fn mass_matrix<const N: usize, L: HybridLagrangian>(
     model: &L,
     q: &[f64],
@@ -160,6 +126,7 @@ pub(crate) fn mass_matrix<const N: usize, L: HybridLagrangian>(
 }
 
 /// `M` and the Euler–Lagrange force `∂L/∂q − (∂²L/∂q̇∂q) q̇`.
+#[inline(never)]
 pub(crate) fn lagrangian_terms<const N: usize, L: HybridLagrangian>(
     model: &L,
     q: &[f64],
@@ -204,6 +171,7 @@ pub(crate) fn lagrangian_terms<const N: usize, L: HybridLagrangian>(
 }
 
 /// `h`, `A`, `A q̇` and `Ȧ q̇` of constraint `index`.
+#[inline(never)]
 pub(crate) fn constraint_terms<const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
