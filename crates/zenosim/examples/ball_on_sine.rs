@@ -8,7 +8,7 @@
 use std::fmt::Write as _;
 use zenosim::models::BallOnSine;
 use zenosim::{
-    EventKind, Outcome, OutputGrid, Point, Simulation, SimulationOptions, Trajectory, ZenoStrategy,
+    EventKind, OutputGrid, Point, Simulation, SimulationOptions, Trajectory, ZenoStrategy,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -33,16 +33,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut trajectory = Trajectory::default();
     let run = sim.run(&mut trajectory);
 
-    match &run.outcome {
-        Outcome::Finished => println!("finished at t = {}", run.t_final),
-        Outcome::ZenoStalled { t_zeno, .. } => {
-            println!(
-                "stalled at the Zeno point, τ∞ ≈ {t_zeno:.12} (t = {})",
-                run.t_final
-            )
-        }
-        Outcome::Failed(error) => println!("failed: {error}"),
-    }
+    println!("{} (t = {})", run.outcome, run.t_final);
     println!("{} impacts", run.stats.impacts);
     for z in &run.zeno {
         println!(

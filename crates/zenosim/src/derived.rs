@@ -6,7 +6,7 @@ use crate::mechanics::Mechanics;
 use crate::model::HybridLagrangian;
 
 /// What zenosim derives from a model's `L` and `h` at a state `(q, q̇)`, by automatic
-/// differentiation.
+/// differentiation. The slices must have the model's dimension (the methods panic otherwise).
 ///
 /// ```
 /// # use zenosim::{Derived, models::BallOnSine};

@@ -92,7 +92,7 @@ pub enum Error {
         t: f64,
     },
     /// The step size fell below what floating point resolves.
-    #[error("at t = {t}: the step size {h:e} underflowed; the equations are too stiff or singular there (loosen the tolerances or check the model)")]
+    #[error("at t = {t}: the step size {h:e} underflowed: the tolerances ask for more than f64 resolves (an atol far below the state's size), or the equations are stiff or singular there; loosen the tolerances or check the model")]
     StepSizeUnderflow {
         /// When.
         t: f64,

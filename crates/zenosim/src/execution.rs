@@ -18,8 +18,12 @@ impl ActiveSet {
         Self(0)
     }
 
-    /// Only constraint `index` active.
+    /// Only constraint `index` active (panics unless `index < 64`).
     pub const fn single(index: usize) -> Self {
+        assert!(
+            index < Self::CAPACITY,
+            "ActiveSet holds constraints 0 to 63"
+        );
         Self(1 << index)
     }
 
@@ -157,7 +161,8 @@ pub struct ZenoPoint {
     pub t_zeno: f64,
     /// Impacts on this constraint in the accumulating sequence.
     pub impacts: usize,
-    /// The measured ratio of the last two flight times (→ `e` for a genuine Zeno execution).
+    /// The measured ratio of successive flight times: the geometric mean over the last six
+    /// flights of the sequence (→ `e` for a genuine Zeno execution).
     pub ratio: Option<f64>,
     /// The state after `R∞` (or the last state reached, when stalled).
     pub point: State,
@@ -177,6 +182,18 @@ pub enum Outcome {
     },
     /// A numerical failure; everything up to it is kept.
     Failed(Error),
+}
+
+impl std::fmt::Display for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Outcome::Finished => write!(f, "finished"),
+            Outcome::ZenoStalled { t_zeno, .. } => {
+                write!(f, "stalled at the Zeno point, τ∞ ≈ {t_zeno}")
+            }
+            Outcome::Failed(error) => write!(f, "failed: {error}"),
+        }
+    }
 }
 
 /// Work counters of a run.

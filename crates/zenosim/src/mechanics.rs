@@ -229,7 +229,13 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         q_dot: &mut [f64],
     ) -> Result<Residuals, DynamicsError> {
         const MAX_NEWTON: usize = 30;
-        let q_scale = q.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+        // Scaled by the coordinates h depends on: one it ignores must not loosen the stop.
+        let c0 = constraint_terms::<N, L>(self.model, index, q, q_dot);
+        let q_scale = q
+            .iter()
+            .zip(c0.gradient.iter())
+            .filter(|(_, a)| **a != 0.0)
+            .fold(1.0_f64, |m, (x, _)| m.max(x.abs()));
         let mut best = f64::INFINITY;
         for _ in 0..MAX_NEWTON {
             let c = constraint_terms::<N, L>(self.model, index, q, q_dot);

@@ -246,7 +246,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         // A surface where ∂h/∂q vanishes (h = x³ at x = 0) has no normal to bounce along: below
         // the position tolerance, h is dominated by its curvature, not by its gradient.
         let tol = self.sim.options.tolerances;
-        let q_tol = tol.atol + tol.rtol * q.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        let q_tol = tol.atol + tol.rtol * self.constraint_scale(index, q);
         if normal.gradient_norm <= 0.5 * normal.curvature * q_tol {
             let error = Error::DegenerateConstraint {
                 t: t_event,
@@ -264,6 +264,20 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             return Ok(Next::Continue);
         }
         self.impact(index, t_event, before, normal, hint)
+    }
+
+    /// The size of the coordinates that constraint `index` depends on (`A_i ≠ 0`), for scaling
+    /// tolerances: a coordinate `h` ignores (like the ball's `x1`) must not loosen them.
+    fn constraint_scale(&mut self, index: usize, q: &[f64]) -> f64 {
+        let mut gradient = std::mem::take(&mut self.scratch);
+        self.mech.constraint_gradient(index, q, &mut gradient);
+        let scale = q
+            .iter()
+            .zip(&gradient)
+            .filter(|(_, a)| **a != 0.0)
+            .fold(0.0_f64, |m, (x, _)| m.max(x.abs()));
+        self.scratch = gradient;
+        scale
     }
 
     /// The event state on the admissible side: the refined state of [`Self::state_at`] may be
@@ -414,7 +428,15 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                         return Ok(self.stall(index, t, &after, p, e));
                     }
                 }
-                ZenoStrategy::Epsilon(_) => {}
+                ZenoStrategy::Epsilon(_) => {
+                    // An ε below what f64 resolves is never met: switch where impacts stop being
+                    // resolvable, as Off stalls there.
+                    if p.next_flight <= time_resolution(t)
+                        || self.zeno_resolved(index, t, &after, &p, &post, OFF_ROUND_OFF_ULPS)?
+                    {
+                        return self.switch(index, t, after, Some(p), e);
+                    }
+                }
             }
         }
         let hint = match prediction {
@@ -612,13 +634,20 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             let (stepper, mech) = (&self.stepper, self.mech);
             let mut y = std::mem::take(&mut self.scratch);
             let mut w = std::mem::take(&mut self.w);
+            // The constraint lets go only where it would have to pull (λ > 0): a contact without
+            // force (λ = 0) holds.
             let crossing = first_crossing(t0, t1, |t| {
                 stepper.interpolate(t, &mut y);
                 let (q, q_dot) = y.split_at(n);
                 let lambda = mech
                     .normal(index, q, q_dot, &mut w)
                     .map_or(f64::NAN, |normal| normal.lambda());
-                (-lambda, None)
+                let holding = if lambda == 0.0 {
+                    f64::MIN_POSITIVE
+                } else {
+                    -lambda
+                };
+                (holding, None)
             });
             self.scratch = y;
             self.w = w;

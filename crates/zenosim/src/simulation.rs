@@ -1,6 +1,7 @@
 //! Setting up a run: the model, the initial state and the options, checked before anything runs.
 
 use crate::derivatives::MAX_DIMENSION;
+use crate::derived::Derived;
 use crate::error::Error;
 use crate::execution::{ActiveSet, Execution};
 use crate::mechanics::Mechanics;
@@ -63,6 +64,7 @@ impl<'a, L: HybridLagrangian> Simulation<'a, L> {
                 return Err(Error::NonFiniteInitialState { what, index, value });
             }
         }
+        let derived = Derived::new(model)?;
         for (index, c) in constraints.iter().enumerate() {
             if !(0.0..=1.0).contains(&c.restitution) {
                 return Err(Error::Restitution {
@@ -70,9 +72,14 @@ impl<'a, L: HybridLagrangian> Simulation<'a, L> {
                     value: c.restitution,
                 });
             }
-            let h: f64 = model.constraint(index, q0);
-            let scale = q0.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
-            // A start on the surface may carry round-off (h = −1e-17 for x3 = sin x2).
+            let (h, gradient) = derived.constraint(index, q0);
+            // A start on the surface may carry round-off (h = −1e-17 for x3 = sin x2), of the
+            // size of the coordinates h depends on.
+            let scale = q0
+                .iter()
+                .zip(&gradient)
+                .filter(|(_, a)| **a != 0.0)
+                .fold(1.0_f64, |m, (x, _)| m.max(x.abs()));
             if h.is_nan() || h < -1e-12 * scale {
                 return Err(Error::Inadmissible {
                     constraint: c.name.clone(),

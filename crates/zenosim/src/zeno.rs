@@ -72,12 +72,21 @@ pub(crate) struct Prediction {
 
 impl Prediction {
     /// The prediction from the normal velocity `v⁺ = A q̇⁺ ≥ 0` and the free normal acceleration
-    /// `ḧ`; `None` when `ḧ ≥ 0` (the body is not pushed back: no accumulation).
+    /// `ḧ`; `None` when the body is not brought back (`ḧ > 0`, or `ḧ = 0` while it moves away).
+    /// At rest on the surface with no force either way (`v⁺ = 0`, `ḧ = 0`: a plastic impact on
+    /// a wall parallel to gravity) the intervals are zero-length: a chattering Zeno point.
     pub fn new(v_plus: f64, h_ddot: f64, e: f64) -> Option<Self> {
+        let v_plus = v_plus.max(0.0);
+        if h_ddot == 0.0 && v_plus == 0.0 {
+            return Some(Self {
+                next_flight: 0.0,
+                remaining: 0.0,
+            });
+        }
         if h_ddot.is_nan() || h_ddot >= 0.0 {
             return None;
         }
-        let next_flight = 2.0 * v_plus.max(0.0) / -h_ddot;
+        let next_flight = 2.0 * v_plus / -h_ddot;
         let remaining = if e < 1.0 - 1e-9 {
             next_flight / (1.0 - e)
         } else {
@@ -117,6 +126,8 @@ mod tests {
     #[test]
     fn no_prediction_when_the_body_is_not_pushed_back() {
         assert!(Prediction::new(1.0, 0.0, 0.5).is_none());
+        // At rest with no force either way: zero-length intervals.
+        assert_eq!(Prediction::new(0.0, 0.0, 0.5).unwrap().remaining, 0.0);
         assert!(Prediction::new(1.0, 3.0, 0.5).is_none());
         assert!(Prediction::new(1.0, f64::NAN, 0.5).is_none());
     }

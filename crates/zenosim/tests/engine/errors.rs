@@ -567,19 +567,8 @@ fn the_spherical_pendulum_through_its_pole() {
     let d = Derived::new(model).unwrap();
     for phi_dot in [0.0, 1e-3] {
         let (run, trajectory) = run(model, &[0.3, 0.0], &[-2.0, phi_dot], options(10.0));
-        if let Outcome::Failed(e) = &run.outcome {
-            assert!(
-                matches!(
-                    e,
-                    Error::SingularMassMatrix { .. }
-                        | Error::StepSizeUnderflow { .. }
-                        | Error::NonFinite { .. }
-                ),
-                "φ̇0 = {phi_dot}: {e:?}"
-            );
-            assert_kept_up_to_failure(&run, &trajectory);
-            continue;
-        }
+        // The pole is a singularity of the coordinates, not of the motion: with φ̇ = 0 the
+        // motion is planar and passes it; with a little φ̇ it swings round it.
         assert_eq!(run.outcome, Outcome::Finished, "φ̇0 = {phi_dot}");
         // It got to (or through) the pole: θ = 0.3 with θ̇ = −2 has energy to spare over the top
         // (½ θ̇² = 2 > (g/l)(1 − cos 0.3) = 0.043).

@@ -8,3 +8,4 @@ mod errors;
 mod liftoff;
 mod multiple_constraints;
 mod properties;
+mod review_regressions;

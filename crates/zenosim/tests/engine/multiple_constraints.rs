@@ -83,7 +83,6 @@ fn wall_impacts_between_floor_bounces_and_a_zeno_point_on_the_floor() {
     let run = Simulation::new(&model, &[0.1, 1.0], &[1.0, 0.0], options)
         .unwrap()
         .run(&mut trajectory);
-    // It reaches a wall while sliding on the floor only after t_end, or stops cleanly there.
     let walls = run
         .events
         .iter()
@@ -105,13 +104,8 @@ fn wall_impacts_between_floor_bounces_and_a_zeno_point_on_the_floor() {
     for p in &trajectory.points {
         assert!(p.h.iter().all(|&h| h >= -1e-9), "{p:?}");
     }
-    match &run.outcome {
-        Outcome::Finished => {}
-        Outcome::Failed(Error::SimultaneousContact { first, second, .. }) => {
-            assert_eq!((first.as_str(), second.as_str()), ("floor", "left"));
-        }
-        other => panic!("{other:?}"),
-    }
+    // It slides on the floor after the Zeno point, and reaches no wall before t_end.
+    assert_eq!(run.outcome, Outcome::Finished);
 }
 
 #[test]
