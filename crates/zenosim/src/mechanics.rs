@@ -190,24 +190,16 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         q: &[f64],
         q_dot: &mut [f64],
     ) -> Result<(), DynamicsError> {
-        with_dimension!(self.n, N => self.impact_n::<N>(index, e, q, q_dot))
-    }
-
-    fn impact_n<const N: usize>(
-        &self,
-        index: usize,
-        e: f64,
-        q: &[f64],
-        q_dot: &mut [f64],
-    ) -> Result<(), DynamicsError> {
-        let chol = cholesky(mass_matrix::<N, L>(self.model, q, q_dot))?;
-        let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
-        let (w, s) = constraint_direction(&chol, &c, index)?;
-        let scale = (1.0 + e) * c.a_q_dot / s;
-        for (v, wi) in q_dot.iter_mut().zip(w.iter()) {
-            *v -= scale * wi;
-        }
-        Ok(())
+        with_dimension!(self.n, N => {
+            let chol = cholesky(mass_matrix::<N, L>(self.model, q, q_dot))?;
+            let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
+            let (w, s) = constraint_direction(&chol, &c, index)?;
+            let scale = (1.0 + e) * c.a_q_dot / s;
+            for (v, wi) in q_dot.iter_mut().zip(w.iter()) {
+                *v -= scale * wi;
+            }
+            Ok(())
+        })
     }
 
     /// The general completion `R∞` for constraint `index`: `q` onto `h = 0` by Newton steps along

@@ -1,26 +1,34 @@
 //! Momenta whose coordinate is absent from `L` and from `A` are conserved through flights,
 //! impacts, the switch and the constrained motion (REFERENCE §3).
 
-use zenosim::models::{CartPendulum, SphericalPendulum};
-use zenosim::{Mode, Outcome, Simulation, SimulationOptions, Trajectory, ZenoKind};
+use zenosim::models::{CartPendulum, Example, SphericalPendulum};
+use zenosim::{
+    Execution, HybridLagrangian, Mode, Outcome, Simulation, SimulationOptions, Trajectory, ZenoKind,
+};
 
-#[test]
-fn the_carts_velocity_after_the_zeno_point_is_p_x_over_the_total_mass() {
-    let ex = CartPendulum::demo();
-    let model = &ex.model;
-    // Sampled at step ends (the dense output in between is about 10× less accurate), with
-    // steps of at most 0.5 s: on the constraint the motion is simple enough to cross in one.
+/// Runs a demo to its stop time, sampled at step ends (the dense output in between is about
+/// 10× less accurate), with steps of at most 0.5 s: on the constraint the motion is simple
+/// enough to cross in one. It must finish, through exactly one Zeno point.
+fn run_to_the_end<M: HybridLagrangian>(ex: &Example<M>) -> (Execution, Trajectory) {
     let options = SimulationOptions {
         t_end: ex.t_end,
         max_step: 0.5,
         ..Default::default()
     };
     let mut trajectory = Trajectory::default();
-    let run = Simulation::new(model, &ex.q0, &ex.q_dot0, options)
+    let run = Simulation::new(&ex.model, &ex.q0, &ex.q_dot0, options)
         .unwrap()
         .run(&mut trajectory);
     assert_eq!(run.outcome, Outcome::Finished);
     assert_eq!(run.zeno.len(), 1);
+    (run, trajectory)
+}
+
+#[test]
+fn the_carts_velocity_after_the_zeno_point_is_p_x_over_the_total_mass() {
+    let ex = CartPendulum::demo();
+    let model = &ex.model;
+    let (run, trajectory) = run_to_the_end(&ex);
     assert_eq!(run.zeno[0].kind, ZenoKind::Genuine);
     let p_x = model.momentum_x(&ex.q0, &ex.q_dot0);
     let x_dot_after = p_x / (model.cart_mass + model.bob_mass);
@@ -45,19 +53,7 @@ fn the_carts_velocity_after_the_zeno_point_is_p_x_over_the_total_mass() {
 fn the_spherical_pendulums_phi_dot_after_the_zeno_point_is_sin2_theta0_phi_dot0() {
     let ex = SphericalPendulum::demo();
     let model = &ex.model;
-    // Sampled at step ends (the dense output in between is about 10× less accurate), with
-    // steps of at most 0.5 s: on the constraint the motion is simple enough to cross in one.
-    let options = SimulationOptions {
-        t_end: ex.t_end,
-        max_step: 0.5,
-        ..Default::default()
-    };
-    let mut trajectory = Trajectory::default();
-    let run = Simulation::new(model, &ex.q0, &ex.q_dot0, options)
-        .unwrap()
-        .run(&mut trajectory);
-    assert_eq!(run.outcome, Outcome::Finished);
-    assert_eq!(run.zeno.len(), 1);
+    let (_, trajectory) = run_to_the_end(&ex);
     let p_phi = model.momentum_phi(&ex.q0, &ex.q_dot0);
     let phi_dot_after = ex.q0[0].sin().powi(2) * ex.q_dot0[1];
     let mut checked = 0;
