@@ -9,8 +9,6 @@
 //! - the energy `q̇ᵀ ∂L/∂q̇ − L`: a scalar dual in the direction `q̇` of `q̇`.
 //!
 //! The runtime dimension is mapped to `N` by [`with_dimension!`] (up to [`MAX_DIMENSION`]).
-//! The passes are kept out of line (`#[inline(never)]`): each is compiled once per dimension
-//! and model, with the model's functions inlined into it, and shared by every caller.
 
 use crate::model::HybridLagrangian;
 use nalgebra::{Const, SMatrix, SVector, U1};
@@ -103,7 +101,6 @@ fn constants<D: Copy, const N: usize>(x: &[f64], lift: impl Fn(f64) -> D) -> [D;
 /// One scalar hyper-dual pass per entry of the upper triangle (`ε₁` along `q̇_i`, `ε₂` along
 /// `q̇_j`): plain `Copy` numbers that the compiler keeps in registers, which measured faster
 /// over whole runs than one pass over a hyper-dual vector with `N × N` matrices.
-#[inline(never)]
 pub(crate) fn mass_matrix<const N: usize, L: HybridLagrangian>(
     model: &L,
     q: &[f64],
@@ -126,7 +123,6 @@ pub(crate) fn mass_matrix<const N: usize, L: HybridLagrangian>(
 }
 
 /// `M` and the Euler–Lagrange force `∂L/∂q − (∂²L/∂q̇∂q) q̇`.
-#[inline(never)]
 pub(crate) fn lagrangian_terms<const N: usize, L: HybridLagrangian>(
     model: &L,
     q: &[f64],
@@ -171,7 +167,6 @@ pub(crate) fn lagrangian_terms<const N: usize, L: HybridLagrangian>(
 }
 
 /// `h`, `A`, `A q̇` and `Ȧ q̇` of constraint `index`.
-#[inline(never)]
 pub(crate) fn constraint_terms<const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
