@@ -80,6 +80,10 @@ pub(crate) struct Normal {
     pub gradient_norm: f64,
     /// `|∇²h q̇| / |q̇|`: the curvature of `h` along the motion (0 at rest).
     pub curvature: f64,
+    /// The rounding error of `A q̇` (from its terms): below it, the normal velocity is 0.
+    pub a_q_dot_round_off: f64,
+    /// The rounding error of `ḧ_free` (from its terms): below it, the normal force is 0.
+    pub h_ddot_round_off: f64,
 }
 
 impl Normal {
@@ -87,6 +91,24 @@ impl Normal {
     pub fn lambda(&self) -> f64 {
         self.h_ddot_free / self.s
     }
+
+    /// How far the constraint is from letting go, in units of `λ`: positive when it would have
+    /// to pull (`ḧ_free` above its rounding error), `≤ 0` while it holds. A contact without
+    /// force (a plastic impact on a wall parallel to gravity, up to rounding) holds.
+    pub fn lift_margin(&self) -> f64 {
+        (self.h_ddot_free - self.h_ddot_round_off) / self.s
+    }
+}
+
+/// The size of `h`'s terms at `q`: `|h| + Σ|A_i q_i|`. Rounding the coordinates changes `h`
+/// by about `ε` times this; coordinates `h` ignores do not count.
+pub(crate) fn guard_scale(h: f64, gradient: &[f64], q: &[f64]) -> f64 {
+    h.abs()
+        + gradient
+            .iter()
+            .zip(q)
+            .map(|(a, x)| (a * x).abs())
+            .sum::<f64>()
 }
 
 /// The derived mechanics of one model; cheap to copy, borrows the model.
@@ -171,12 +193,16 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             let (dir, s) = constraint_direction(&chol, &c, index)?;
             w[..N].copy_from_slice(dir.as_slice());
             let speed = SVector::<f64, N>::from_column_slice(&q_dot[..N]).norm();
+            let gradient_norm = c.gradient.norm();
+            const ROUND_OFF: f64 = 64.0 * f64::EPSILON;
             let normal = Normal {
                 a_q_dot: c.a_q_dot,
                 h_ddot_free: c.gradient.dot(&acc) + c.a_dot_q_dot,
                 s,
-                gradient_norm: c.gradient.norm(),
+                gradient_norm,
                 curvature: if speed > 0.0 { c.hessian_q_dot_norm / speed } else { 0.0 },
+                a_q_dot_round_off: ROUND_OFF * gradient_norm * speed,
+                h_ddot_round_off: ROUND_OFF * (gradient_norm * acc.norm() + c.a_dot_q_dot.abs()),
             };
             if normal.h_ddot_free.is_finite() { Ok(normal) } else { Err(DynamicsError::NonFinite) }
         })
@@ -221,13 +247,11 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         q_dot: &mut [f64],
     ) -> Result<Residuals, DynamicsError> {
         const MAX_NEWTON: usize = 30;
-        // Scaled by the coordinates h depends on: one it ignores must not loosen the stop.
+        // Scaled by how much the coordinates weigh in h (|h| + Σ|A_i q_i|, in h's units, and
+        // divided by |A| in q's): a coordinate h ignores must not loosen the stop.
         let c0 = constraint_terms::<N, L>(self.model, index, q, q_dot);
-        let q_scale = q
-            .iter()
-            .zip(c0.gradient.iter())
-            .filter(|(_, a)| **a != 0.0)
-            .fold(1.0_f64, |m, (x, _)| m.max(x.abs()));
+        let h_scale = guard_scale(c0.h, c0.gradient.as_slice(), q).max(1.0);
+        let q_scale = (h_scale / c0.gradient.norm()).max(1.0);
         let mut best = f64::INFINITY;
         for _ in 0..MAX_NEWTON {
             let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
@@ -252,7 +276,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
                     h: c.h.abs(),
                     a_q_dot: c.gradient.dot(&v).abs(),
                 };
-                if residuals.h > 1e-12 * q_scale {
+                if residuals.h > 1e-12 * h_scale {
                     break;
                 }
                 return Ok(residuals);

@@ -13,7 +13,7 @@ use crate::execution::{
     ZenoKind, ZenoPoint,
 };
 use crate::integrator::{OdeSystem, StepError, Stepper};
-use crate::mechanics::{DynamicsError, Mechanics, Normal};
+use crate::mechanics::{guard_scale, DynamicsError, Mechanics, Normal};
 use crate::model::HybridLagrangian;
 use crate::observer::{Observer, Sample};
 use crate::options::{Completion, OutputGrid, ZenoStrategy};
@@ -76,8 +76,8 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     stuck: usize,
     /// The largest next step, from the predicted flight after an impact.
     flight_bound: f64,
-    /// `λ` of the active constraint at the start of the current step.
-    lambda_start: f64,
+    /// [`Normal::lift_margin`] of the active constraint at the start of the current step.
+    lift_margin_start: f64,
     /// The next time on a uniform output grid.
     next_output: f64,
     wants_samples: bool,
@@ -122,7 +122,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             last_event_t: f64::NEG_INFINITY,
             stuck: 0,
             flight_bound: f64::INFINITY,
-            lambda_start: 0.0,
+            lift_margin_start: 0.0,
             next_output: 0.0,
             last_sample: (f64::NAN, Mode::Free, vec![f64::NAN; 2 * n]),
             scratch: vec![0.0; 2 * n],
@@ -254,8 +254,12 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             };
             return Err(self.fail_at(t_event, &before, error));
         }
-        if normal.a_q_dot > 0.0 || (normal.a_q_dot == 0.0 && normal.h_ddot_free > 0.0) {
-            // Moving away at the root: a round-off crossing, not an impact (REFERENCE §4).
+        let leaving = normal.a_q_dot > 0.0
+            || (normal.a_q_dot.abs() <= normal.a_q_dot_round_off
+                && normal.h_ddot_free > normal.h_ddot_round_off);
+        if leaving {
+            // Moving away at the root (or at rest and accelerating away): a round-off crossing,
+            // not an impact (REFERENCE §4).
             self.spurious += 1;
             if self.no_progress(t_event) {
                 return self.stuck_at(index, t_event, &before);
@@ -266,18 +270,20 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         self.impact(index, t_event, before, normal, hint)
     }
 
-    /// The size of the coordinates that constraint `index` depends on (`A_i ≠ 0`), for scaling
-    /// tolerances: a coordinate `h` ignores (like the ball's `x1`) must not loosen them.
+    /// The size of the coordinates as constraint `index` weighs them, `(|h| + Σ|A_i q_i|)/|A|`,
+    /// for scaling position tolerances: a coordinate `h` ignores or barely depends on (like the
+    /// ball's `x1`) must not loosen them.
     fn constraint_scale(&mut self, index: usize, q: &[f64]) -> f64 {
         let mut gradient = std::mem::take(&mut self.scratch);
-        self.mech.constraint_gradient(index, q, &mut gradient);
-        let scale = q
-            .iter()
-            .zip(&gradient)
-            .filter(|(_, a)| **a != 0.0)
-            .fold(0.0_f64, |m, (x, _)| m.max(x.abs()));
+        let h = self.mech.constraint_gradient(index, q, &mut gradient);
+        let norm = gradient[..self.n].iter().map(|a| a * a).sum::<f64>().sqrt();
+        let scale = guard_scale(h, &gradient[..self.n], q) / norm;
         self.scratch = gradient;
-        scale
+        if scale.is_finite() {
+            scale
+        } else {
+            0.0
+        }
     }
 
     /// The event state on the admissible side: the refined state of [`Self::state_at`] may be
@@ -389,7 +395,9 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             // The paper's rule, on the state just before the impact.
             if h.abs() <= eps && normal.a_q_dot.abs() <= eps {
                 self.sequence.record(index, t);
-                let prediction = Prediction::new(-e * normal.a_q_dot, normal.h_ddot_free, e);
+                let round_off = (e * normal.a_q_dot_round_off, normal.h_ddot_round_off);
+                let prediction =
+                    Prediction::new(-e * normal.a_q_dot, normal.h_ddot_free, e, round_off);
                 return self.switch(index, t, before, prediction, e);
             }
         }
@@ -406,7 +414,8 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         self.sequence.record(index, t);
         let (q, q_dot) = after.split_at(self.n);
         let post = self.normal(index, t, q, q_dot)?;
-        let prediction = Prediction::new(post.a_q_dot, post.h_ddot_free, e);
+        let round_off = (post.a_q_dot_round_off, post.h_ddot_round_off);
+        let prediction = Prediction::new(post.a_q_dot, post.h_ddot_free, e, round_off);
         let stuck = self.no_progress(t);
         if stuck {
             return self.stuck_at(index, t, &after);
@@ -474,12 +483,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         // Round-off floor of the guard: the rounding of h = h(q) as the coordinates round.
         let mut gradient = std::mem::take(&mut self.scratch);
         let h = self.mech.constraint_gradient(index, q, &mut gradient);
-        let h_scale = h.abs()
-            + gradient[..n]
-                .iter()
-                .zip(q)
-                .map(|(a, x)| (a * x).abs())
-                .sum::<f64>();
+        let h_scale = guard_scale(h, &gradient[..n], q);
         self.scratch = gradient;
         let height = normal.a_q_dot.max(0.0).powi(2) / (2.0 * -normal.h_ddot_free);
         if height <= ulps * f64::EPSILON * h_scale {
@@ -603,8 +607,8 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         self.restart(t, &after, None)?;
         // A constraint that cannot hold the motion (λ > 0) lets go at once.
         let (q, q_dot) = after.split_at(self.n);
-        self.lambda_start = self.normal(index, t, q, q_dot)?.lambda();
-        if self.lambda_start > 0.0 {
+        self.lift_margin_start = self.normal(index, t, q, q_dot)?.lift_margin();
+        if self.lift_margin_start > 0.0 {
             return self.liftoff(index, t, after);
         }
         Ok(Next::Continue)
@@ -619,14 +623,15 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         if let Some((other, t)) = self.earliest_crossing(t0, t1, Some(index))? {
             return Err(self.simultaneous(t, index, other));
         }
-        // Lift-off: λ reaches 0 from below; reported where λ ≥ 0, where free flight is admissible.
-        // λ is sampled on the dense output as it is (within the tolerance of the constraint);
-        // inside the step only when its values at the ends do not rule a crossing out.
-        let lambda_start = self.lambda_start;
+        // Lift-off: the constraint lets go where it would have to pull (λ above its rounding
+        // error; a contact without force holds), reported on the side where it pulls, where free
+        // flight is admissible. λ is sampled on the dense output as it is (within the tolerance
+        // of the constraint); inside the step only when its ends do not rule a crossing out.
+        let margin_start = self.lift_margin_start;
         let end = self.stepper.y().to_vec();
-        let lambda_end = self.normal(index, t1, &end[..n], &end[n..])?.lambda();
-        let crossing = if lambda_end <= 0.0
-            && lambda_start.max(lambda_end) < -(lambda_end - lambda_start).abs()
+        let margin_end = self.normal(index, t1, &end[..n], &end[n..])?.lift_margin();
+        let crossing = if margin_end <= 0.0
+            && margin_start.max(margin_end) < -(margin_end - margin_start).abs()
         {
             None
         } else {
@@ -634,26 +639,19 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             let (stepper, mech) = (&self.stepper, self.mech);
             let mut y = std::mem::take(&mut self.scratch);
             let mut w = std::mem::take(&mut self.w);
-            // The constraint lets go only where it would have to pull (λ > 0): a contact without
-            // force (λ = 0) holds.
             let crossing = first_crossing(t0, t1, |t| {
                 stepper.interpolate(t, &mut y);
                 let (q, q_dot) = y.split_at(n);
-                let lambda = mech
+                let margin = mech
                     .normal(index, q, q_dot, &mut w)
-                    .map_or(f64::NAN, |normal| normal.lambda());
-                let holding = if lambda == 0.0 {
-                    f64::MIN_POSITIVE
-                } else {
-                    -lambda
-                };
-                (holding, None)
+                    .map_or(f64::NAN, |normal| normal.lift_margin());
+                (-margin, None)
             });
             self.scratch = y;
             self.w = w;
             crossing
         };
-        self.lambda_start = lambda_end;
+        self.lift_margin_start = margin_end;
         if let Some(c) = crossing {
             let t = c.t_violating;
             self.emit_grid_before(t)?;

@@ -4,7 +4,7 @@ use crate::derivatives::MAX_DIMENSION;
 use crate::derived::Derived;
 use crate::error::Error;
 use crate::execution::{ActiveSet, Execution};
-use crate::mechanics::Mechanics;
+use crate::mechanics::{guard_scale, Mechanics};
 use crate::model::HybridLagrangian;
 use crate::observer::Observer;
 use crate::options::SimulationOptions;
@@ -74,12 +74,8 @@ impl<'a, L: HybridLagrangian> Simulation<'a, L> {
             }
             let (h, gradient) = derived.constraint(index, q0);
             // A start on the surface may carry round-off (h = −1e-17 for x3 = sin x2), of the
-            // size of the coordinates h depends on.
-            let scale = q0
-                .iter()
-                .zip(&gradient)
-                .filter(|(_, a)| **a != 0.0)
-                .fold(1.0_f64, |m, (x, _)| m.max(x.abs()));
+            // size of h's terms (coordinates h ignores do not count).
+            let scale = guard_scale(h, &gradient, q0).max(1.0);
             if h.is_nan() || h < -1e-12 * scale {
                 return Err(Error::Inadmissible {
                     constraint: c.name.clone(),

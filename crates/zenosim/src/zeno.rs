@@ -72,13 +72,15 @@ pub(crate) struct Prediction {
 
 impl Prediction {
     /// The prediction from the normal velocity `v⁺ = A q̇⁺ ≥ 0` and the free normal acceleration
-    /// `ḧ`; `None` when the body is not brought back (`ḧ > 0`, or `ḧ = 0` while it moves away).
-    /// At rest on the surface with no force either way (`v⁺ = 0`, `ḧ = 0`: a plastic impact on
-    /// a wall parallel to gravity) the intervals are zero-length: a chattering Zeno point.
-    pub fn new(v_plus: f64, h_ddot: f64, e: f64) -> Option<Self> {
+    /// `ḧ`, each with its rounding error; `None` when the body is not brought back (`ḧ > 0`, or
+    /// `ḧ = 0` while it moves away). At rest on the surface with no force either way (both at
+    /// rounding level: a plastic impact on a wall parallel to gravity) the intervals are
+    /// zero-length: a chattering Zeno point.
+    pub fn new(v_plus: f64, h_ddot: f64, e: f64, round_off: (f64, f64)) -> Option<Self> {
         let v_plus = v_plus.max(0.0);
-        if h_ddot == 0.0 && v_plus == 0.0 {
-            return Some(Self {
+        let (v_round, h_ddot_round) = round_off;
+        if h_ddot.abs() <= h_ddot_round {
+            return (v_plus <= v_round).then_some(Self {
                 next_flight: 0.0,
                 remaining: 0.0,
             });
@@ -117,7 +119,7 @@ mod tests {
     fn the_prediction_is_exact_for_a_flat_floor() {
         // Ball at v⁺ = 2 m/s up, g = 9.81: next flight 2v/g, the rest a geometric series
         // with ratio e (closed form).
-        let p = Prediction::new(2.0, -9.81, 0.5).unwrap();
+        let p = Prediction::new(2.0, -9.81, 0.5, (0.0, 0.0)).unwrap();
         assert!((p.next_flight - 4.0 / 9.81).abs() < 1e-15);
         assert!((p.remaining - 2.0 * 4.0 / 9.81).abs() < 1e-15);
         assert_eq!(p.kind(0.5, 1.0), ZenoKind::Genuine);
@@ -125,16 +127,25 @@ mod tests {
 
     #[test]
     fn no_prediction_when_the_body_is_not_pushed_back() {
-        assert!(Prediction::new(1.0, 0.0, 0.5).is_none());
-        // At rest with no force either way: zero-length intervals.
-        assert_eq!(Prediction::new(0.0, 0.0, 0.5).unwrap().remaining, 0.0);
-        assert!(Prediction::new(1.0, 3.0, 0.5).is_none());
-        assert!(Prediction::new(1.0, f64::NAN, 0.5).is_none());
+        assert!(Prediction::new(1.0, 0.0, 0.5, (0.0, 0.0)).is_none());
+        // At rest with no force either way: zero-length intervals; within rounding too.
+        assert_eq!(
+            Prediction::new(0.0, 0.0, 0.5, (0.0, 0.0))
+                .unwrap()
+                .remaining,
+            0.0
+        );
+        let p = Prediction::new(1e-18, 2e-16, 0.5, (1e-17, 1e-15)).unwrap();
+        assert_eq!(p.remaining, 0.0);
+        // Moving away with no force: never back.
+        assert!(Prediction::new(1.0, 1e-16, 0.5, (1e-17, 1e-15)).is_none());
+        assert!(Prediction::new(1.0, 3.0, 0.5, (0.0, 0.0)).is_none());
+        assert!(Prediction::new(1.0, f64::NAN, 0.5, (0.0, 0.0)).is_none());
     }
 
     #[test]
     fn a_plastic_impact_is_chattering() {
-        let p = Prediction::new(0.0, -9.81, 0.0).unwrap();
+        let p = Prediction::new(0.0, -9.81, 0.0, (0.0, 0.0)).unwrap();
         assert_eq!(p.remaining, 0.0);
         assert_eq!(p.kind(0.0, 1.0), ZenoKind::Chattering);
     }

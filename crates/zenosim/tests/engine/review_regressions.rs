@@ -135,3 +135,119 @@ fn the_outcome_says_what_happened() {
     };
     assert_eq!(stalled.to_string(), "stalled at the Zeno point, τ∞ ≈ 2.04");
 }
+
+/// A wall parallel to gravity in a frame rotated by `theta`: gravity along `−up`, the wall
+/// `h = 1 − q·n` with `n ⟂ up`. Exactly parallel in exact arithmetic, parallel up to rounding
+/// in floating point.
+struct RotatedWall {
+    theta: f64,
+    constraints: [Constraint; 1],
+}
+
+impl RotatedWall {
+    fn up(&self) -> [f64; 2] {
+        [self.theta.sin(), self.theta.cos()]
+    }
+    fn normal(&self) -> [f64; 2] {
+        let a = self.theta + std::f64::consts::FRAC_PI_2;
+        [a.sin(), a.cos()]
+    }
+}
+
+impl HybridLagrangian for RotatedWall {
+    fn dimension(&self) -> usize {
+        2
+    }
+    #[inline]
+    fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
+        let up = self.up();
+        (v[0] * v[0] + v[1] * v[1]) * 0.5 - (q[0] * up[0] + q[1] * up[1]) * 9.81
+    }
+    fn constraints(&self) -> &[Constraint] {
+        &self.constraints
+    }
+    #[inline]
+    fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
+        let n = self.normal();
+        -(q[0] * n[0] + q[1] * n[1]) + 1.0
+    }
+}
+
+/// The re-review found the previous test's fix held only for a force of exactly 0: with the
+/// wall parallel to gravity up to rounding (the frame rotated by 2.0 or 2.3 rad), the cycle
+/// impact → Zeno → lift-off came back. λ and ḧ are now compared with their own rounding
+/// errors; the point slides down the wall, and the chattering point's τ∞ is its switch time.
+#[test]
+fn a_wall_parallel_to_gravity_up_to_rounding_holds_the_point() {
+    for theta in [0.1, 0.7, 2.0, 2.3, 2.5] {
+        let model = RotatedWall {
+            theta,
+            constraints: [Constraint::new("wall", 0.0)],
+        };
+        let (n, up) = (model.normal(), model.up());
+        let q0 = [0.25 * n[0] + up[0], 0.25 * n[1] + up[1]];
+        let q_dot0 = [2.0 * n[0], 2.0 * n[1]];
+        let options = SimulationOptions {
+            t_end: 3.0,
+            ..Default::default()
+        };
+        let run = Simulation::new(&model, &q0, &q_dot0, options)
+            .unwrap()
+            .run(&mut ());
+        assert_eq!(
+            run.outcome,
+            Outcome::Finished,
+            "θ = {theta}: {}",
+            run.outcome
+        );
+        assert_eq!(run.events.len(), 2, "θ = {theta}: {:?}", run.events);
+        let z = &run.zeno[0];
+        assert_eq!(z.kind, ZenoKind::Chattering);
+        assert_eq!(z.t_zeno, z.t_switch, "θ = {theta}");
+        assert!((z.t_switch - 0.375).abs() < 1e-12);
+        // Free fall along the wall: the height along `up` is 1 − g t²/2 (closed form).
+        let q = &run.final_state.q;
+        let height = q[0] * up[0] + q[1] * up[1];
+        assert!(
+            (height - (1.0 - 0.5 * 9.81 * 9.0)).abs() < 1e-9,
+            "θ = {theta}: {height}"
+        );
+    }
+}
+
+/// A coordinate that h barely depends on (h = y − 1e-20 x at x = 1e12) must not make a start
+/// half a unit inside the surface look admissible.
+#[test]
+fn a_coordinate_with_a_tiny_weight_in_h_does_not_loosen_admissibility() {
+    struct Tilted {
+        constraints: [Constraint; 1],
+    }
+    impl HybridLagrangian for Tilted {
+        fn dimension(&self) -> usize {
+            2
+        }
+        fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
+            (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * 9.81
+        }
+        fn constraints(&self) -> &[Constraint] {
+            &self.constraints
+        }
+        fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
+            q[1] - q[0] * 1e-20
+        }
+    }
+    let model = Tilted {
+        constraints: [Constraint::new("floor", 0.5)],
+    };
+    let refused = Simulation::new(
+        &model,
+        &[1e12, -0.5],
+        &[0.0, 0.0],
+        SimulationOptions::default(),
+    );
+    assert!(
+        matches!(refused, Err(Error::Inadmissible { .. })),
+        "{:?}",
+        refused.err()
+    );
+}
