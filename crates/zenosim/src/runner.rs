@@ -404,10 +404,9 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let mut after = before.clone();
         {
             let (q, q_dot) = after.split_at_mut(self.n);
-            self.mech.impact(index, e, q, q_dot).map_err(|err| {
-                let error = self.dynamics_error(err, t, &before);
-                self.fail_at(t, &before, error)
-            })?;
+            self.mech
+                .impact(index, e, q, q_dot)
+                .map_err(|err| self.fail_dynamics(err, t, &before))?;
         }
         self.impacts += 1;
         self.record_event(EventKind::Impact, index, t, &before, &after, Mode::Free)?;
@@ -423,26 +422,19 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         if let Some(p) = prediction {
             match self.sim.options.zeno {
                 ZenoStrategy::Auto => {
-                    // Flights shorter than f64 time resolves end the sequence in any case.
-                    if p.next_flight <= time_resolution(t)
-                        || self.zeno_resolved(index, t, &after, &p, &post, AUTO_ROUND_OFF_ULPS)?
-                    {
+                    if self.zeno_resolved(index, t, &after, &p, &post, AUTO_ROUND_OFF_ULPS)? {
                         return self.switch(index, t, after, Some(p), e);
                     }
                 }
                 ZenoStrategy::Off => {
-                    if p.next_flight <= time_resolution(t)
-                        || self.zeno_resolved(index, t, &after, &p, &post, OFF_ROUND_OFF_ULPS)?
-                    {
+                    if self.zeno_resolved(index, t, &after, &p, &post, OFF_ROUND_OFF_ULPS)? {
                         return Ok(self.stall(index, t, &after, p, e));
                     }
                 }
+                // An ε below what f64 resolves is never met: switch where impacts stop being
+                // resolvable, as Off stalls there.
                 ZenoStrategy::Epsilon(_) => {
-                    // An ε below what f64 resolves is never met: switch where impacts stop being
-                    // resolvable, as Off stalls there.
-                    if p.next_flight <= time_resolution(t)
-                        || self.zeno_resolved(index, t, &after, &p, &post, OFF_ROUND_OFF_ULPS)?
-                    {
+                    if self.zeno_resolved(index, t, &after, &p, &post, OFF_ROUND_OFF_ULPS)? {
                         return self.switch(index, t, after, Some(p), e);
                     }
                 }
@@ -462,7 +454,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
     /// Whether the rest of the Zeno sequence after the impact that left `y` is below what the
     /// run resolves, with `ulps` the rounding margin of the guard (see [`Self::round_off_floor`]).
     ///
-    /// Resolved means either:
+    /// Resolved means the next flight is shorter than `f64` time resolves at `t`, or either:
     /// - the predicted remaining time `T_rem` is shorter than the integrator's time resolution
     ///   `1/‖ẋ‖` (in its own weighted error norm): the execution cannot move by more than the
     ///   tolerance before `τ∞`, so switching now is as accurate as the integration; or
@@ -478,6 +470,9 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         normal: &Normal,
         ulps: f64,
     ) -> Result<bool, Error> {
+        if p.next_flight <= time_resolution(t) {
+            return Ok(true);
+        }
         let n = self.n;
         let (q, q_dot) = y.split_at(n);
         // Round-off floor of the guard: the rounding of h = h(q) as the coordinates round.
@@ -577,10 +572,9 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             if self.sim.options.completion == Completion::ModelMap {
                 self.sim.model.completion_map(index, q, q_dot);
             }
-            self.mech.project(index, q, q_dot).map_err(|err| {
-                let error = self.dynamics_error(err, t, &before);
-                self.fail_at(t, &before, error)
-            })?;
+            self.mech
+                .project(index, q, q_dot)
+                .map_err(|err| self.fail_dynamics(err, t, &before))?;
         }
         let (kind, remaining) = match prediction {
             Some(p) => (self.zeno_kind(&p, e, t), p.remaining),
@@ -845,8 +839,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         normal.map_err(|err| {
             let mut y = q.to_vec();
             y.extend_from_slice(q_dot);
-            let error = self.dynamics_error(err, t, &y);
-            self.fail_at(t, &y, error)
+            self.fail_dynamics(err, t, &y)
         })
     }
 
@@ -902,6 +895,12 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             }
             Err(other) => other,
         }
+    }
+
+    /// Ends the run at `(t, y)` with the error the mechanics reported there.
+    fn fail_dynamics(&mut self, err: DynamicsError, t: f64, y: &[f64]) -> Error {
+        let error = self.dynamics_error(err, t, y);
+        self.fail_at(t, y, error)
     }
 
     /// Ends the run at `(t, y)` with `error`, keeping the execution up to there: the output
