@@ -1,11 +1,49 @@
-//! Parse and validate zenosim model files.
+//! Read and check zenosim model files.
 //!
-//! A model file describes a hybrid Lagrangian system: its coordinates, parameters, Lagrangian
-//! and unilateral constraints, written as formulas. Today this crate holds the formula part, the
-//! expression language of [`expr`]: it parses a formula once, reports mistakes with their line
-//! and column and what to do about them, and evaluates the compiled formula quickly over `f64`
-//! and over the dual numbers zenosim differentiates with.
+//! A model file describes a hybrid Lagrangian system in TOML: its coordinates, parameters,
+//! Lagrangian, unilateral constraints with their restitutions, initial state and run settings,
+//! the functions written as formulas:
+//!
+//! ```toml
+//! name = "ball-on-sine"
+//! coordinates = ["x1", "x2", "x3"]            # velocities are x1_dot, x2_dot, x3_dot
+//! lagrangian = "0.5*m*(x1_dot^2 + x2_dot^2 + x3_dot^2) - m*g*x3"
+//!
+//! [parameters]                                # numbers or formulas of other parameters
+//! m = 1.0
+//! g = 9.81
+//!
+//! [[constraint]]                              # one or more; the admissible side is h >= 0
+//! name = "surface"
+//! h = "x3 - sin(x2)"
+//! restitution = 0.6
+//! # zeno_reset = { x3 = "sin(x2)", x3_dot = "cos(x2)*x2_dot" }   # optional own R∞
+//!
+//! [initial]                                   # omitted values are 0
+//! x2 = "pi/3"
+//! x3 = 2.0
+//! x1_dot = 0.5
+//!
+//! [simulation]                                # all optional
+//! t_end = 6.0
+//! rtol = 1e-10
+//! atol = 1e-10
+//! zeno = "auto"                               # "auto" | "off" | { epsilon = 1e-3 }
+//! ```
+//!
+//! [`parse_model`] turns such a file into a [`ModelFile`]: a [`FileModel`] that implements
+//! [`zenosim::HybridLagrangian`] (its formulas compiled once and evaluated over `f64` and
+//! dual numbers, so file models get exact derivatives), the initial state and the settings.
+//! Every mistake is a [`ModelError`] that names the file, the line and column or the key, and
+//! says what to do. The formula language is described in [`expr`].
 
 #![warn(missing_docs)]
 
+mod error;
 pub mod expr;
+mod file_model;
+mod load;
+
+pub use error::{Location, ModelError};
+pub use file_model::FileModel;
+pub use load::{parse_model, parse_zeno, ModelFile, Override, Settings};

@@ -3,7 +3,7 @@
 //! Every quantity the mechanics needs comes from one evaluation of `L` or `h` over a dual number
 //! whose size is known at compile time (`N` = number of coordinates), so nothing allocates:
 //! - `M = ∂²L/∂q̇²`: scalar hyper-duals, one per entry, seeded on `q̇_i` and `q̇_j`;
-//! - `(∂²L/∂q̇∂q) q̇`: hyper-dual, `ε₁` on `q̇`, `ε₂` the direction `q̇` in `q`;
+//! - `(∂²L/∂q̇∂q) q̇`: scalar hyper-duals, one per row, `ε₁` on `q̇_i`, `ε₂` the direction `q̇` in `q`;
 //! - `∂L/∂q`: dual vector on `q`;
 //! - `A = ∂h/∂q`, `A q̇` and `Ȧ q̇ = q̇ᵀ∇²h q̇`: hyper-dual, `ε₁` on `q`, `ε₂` the direction `q̇`;
 //! - the energy `q̇ᵀ ∂L/∂q̇ − L`: a scalar dual in the direction `q̇` of `q̇`.
@@ -130,22 +130,17 @@ pub(crate) fn lagrangian_terms<const N: usize, L: HybridLagrangian>(
 ) -> LagrangianTerms<N> {
     let mass = mass_matrix::<N, L>(model, q, q_dot);
 
-    // (∂²L/∂q̇∂q) q̇: ε₁ on q̇, ε₂ along q̇ in q.
-    type Mixed<const N: usize> = HyperDualVec<f64, Const<N>, U1>;
-    let q_m: [Mixed<N>; N] = std::array::from_fn(|i| {
-        let mut x = Mixed::<N>::from_re(q[i]);
-        x.eps2 = Derivative::some(SMatrix::<f64, 1, 1>::new(q_dot[i]));
-        x
-    });
-    let q_dot_m: [Mixed<N>; N] = std::array::from_fn(|i| {
-        let mut v = Mixed::<N>::from_re(q_dot[i]);
-        v.eps1 = Derivative::derivative_generic(Const::<N>, U1, i);
-        v
-    });
-    let mixed = model
-        .lagrangian(&q_m, &q_dot_m)
-        .eps1eps2
-        .unwrap_generic(Const::<N>, U1);
+    // (∂²L/∂q̇∂q) q̇: one scalar hyper-dual pass per row, ε₁ on q̇_i, ε₂ along q̇ in q (cheaper
+    // than one pass over a hyper-dual vector, whose optional parts cost branches per operation).
+    let q_along: [HyperDual64; N] =
+        std::array::from_fn(|k| HyperDual64::new(q[k], 0.0, q_dot[k], 0.0));
+    let mut mixed = SVector::<f64, N>::zeros();
+    for (i, m) in mixed.iter_mut().enumerate() {
+        let q_dot_d: [HyperDual64; N] = std::array::from_fn(|k| {
+            HyperDual64::new(q_dot[k], if k == i { 1.0 } else { 0.0 }, 0.0, 0.0)
+        });
+        *m = model.lagrangian(&q_along, &q_dot_d).eps1eps2;
+    }
 
     // ∂L/∂q.
     type Grad<const N: usize> = DualVec<f64, Const<N>>;

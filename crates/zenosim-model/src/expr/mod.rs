@@ -28,29 +28,46 @@
 //!
 //! # Evaluation
 //!
-//! [`Expression::parse`] compiles the source into a flat postfix program: subexpressions without
-//! names are folded into constants (`0.5*2*9.81` becomes `9.81`, exactly as evaluated left to
-//! right; nothing is reassociated, so `x*0.5*2` keeps both multiplications). [`Expression::eval`]
-//! runs the program with a small stack and no recursion, generic over [`zenosim::Scalar`]:
-//! - `x^n` and `pow(x, n)` with a constant integer `n` use `powi` (exact for negative `x`); a
-//!   constant non-integer exponent uses `powf`; an exponent that varies uses `exp(n ln x)` (over
-//!   `f64` too, so that `f64` values are the real parts of dual ones), which needs `x > 0`.
+//! [`Expression::parse`] compiles the source into a flat register program. Names the [`Scope`]
+//! binds to constants (model parameters, say) compile to their values, and subexpressions
+//! without variables are folded into constants (`0.5*m*x` with `m = 2` becomes `1*x`; `0.5*2*9.81`
+//! becomes `9.81`, exactly as evaluated left to right; nothing is reassociated, so `x*0.5*2`
+//! keeps both multiplications). Constants are operands of the instructions (`x*c` scales a dual
+//! number), and a product feeding a sum is fused with it. [`Expression::eval`] and
+//! [`Expression::eval_split`] run the program over a small register file, with no recursion,
+//! generic over [`zenosim::Scalar`]:
+//! - the value over `f64` is the real part of the value over any dual number, bit for bit
+//!   (where num-dual rounds a real part differently, as in `a/b`, `tan`, `tanh` and powers,
+//!   the real part is set to the `f64` value);
+//! - `x^n` and `pow(x, n)` with a constant integer `n` use `powi` (exact for negative `x`; `x^2`
+//!   is `x*x`); a constant non-integer exponent uses `powf`; an exponent that varies uses
+//!   `exp(n ln x)` (over `f64` too), which needs `x > 0`.
 //! - `min` and `max` compare real parts and return the whole chosen number, derivatives
 //!   included; on a tie they return the first argument, and a NaN argument is propagated.
 //! - `abs` is `DualNum`'s: its derivative is the sign of the real part.
 //!
 //! ```
 //! use std::collections::HashMap;
-//! use zenosim_model::expr::Expression;
+//! use zenosim_model::expr::{Bindings, Expression};
 //!
 //! let scope = HashMap::from([("m".to_string(), 0), ("x".to_string(), 1)]);
 //! let energy = Expression::parse("0.5 * m * x^2", &scope).unwrap();
 //! assert_eq!(energy.eval(&[2.0, 3.0]), 9.0);
 //! assert_eq!(energy.slots(), &[0, 1]);
+//!
+//! // With `m` a known parameter, `0.5 * m` folds into one constant.
+//! let scope = Bindings::new().with_constant("m", 2.0).with_slot("x", 0);
+//! let energy = Expression::parse("0.5 * m * x^2", &scope).unwrap();
+//! assert_eq!(energy.eval(&[3.0]), 9.0);
+//! assert_eq!(energy.slots(), &[0]);
+//! assert_eq!(energy.names(), &["m", "x"]);
 //! ```
 
+mod builder;
 mod error;
+mod instr;
 mod lexer;
+mod ops;
 mod parser;
 mod program;
 
@@ -101,13 +118,88 @@ impl Default for Limits {
 }
 
 /// Where the names of an expression are bound: the caller decides which names exist and gives
-/// each a variable slot, the index into the slice passed to [`Expression::eval`].
+/// each either a constant value or a variable slot, the index into the slice passed to
+/// [`Expression::eval`].
 ///
 /// Implemented for maps from names to slots, for closures `Fn(&str) -> Option<usize>`, for
-/// lists of names (a name's slot is its position) and for `()` (no names at all).
+/// lists of names (a name's slot is its position), for `()` (no names at all), and by
+/// [`Bindings`], which binds constants too.
 pub trait Scope {
     /// The slot of `name`, or `None` if the name is not defined.
     fn resolve(&self, name: &str) -> Option<usize>;
+
+    /// The value of `name` if it is bound to a constant, known when the expression is compiled;
+    /// asked before [`resolve`](Self::resolve). By default no name is.
+    ///
+    /// A constant name compiles to its value, which is folded with the constants around it:
+    /// with `m` and `g` constants, `0.5*m*v^2 - m*g*z` evaluates `c1*v^2 - c2*z`. It is listed
+    /// in [`Expression::names`] (so callers can track what depends on it) but, reading no
+    /// variable, not in [`Expression::slots`].
+    fn constant(&self, name: &str) -> Option<f64> {
+        let _ = name;
+        None
+    }
+}
+
+/// A [`Scope`] built from names bound to variable slots and names bound to constants.
+///
+/// ```
+/// use zenosim_model::expr::{Bindings, Expression};
+///
+/// let scope = Bindings::from_parts([("x", 0), ("v", 1)], [("k", 4.0)]);
+/// let force = Expression::parse("-k*x", &scope).unwrap();
+/// assert_eq!(force.eval(&[0.5, 0.0]), -2.0);
+/// assert_eq!(force.slots(), &[0]);
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Bindings {
+    slots: HashMap<String, usize>,
+    constants: HashMap<String, f64>,
+}
+
+impl Bindings {
+    /// No names.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The names of `slots` bound to their slots and those of `constants` to their values; a
+    /// name in both is a constant.
+    pub fn from_parts<S: Into<String>, C: Into<String>>(
+        slots: impl IntoIterator<Item = (S, usize)>,
+        constants: impl IntoIterator<Item = (C, f64)>,
+    ) -> Self {
+        Self {
+            slots: slots.into_iter().map(|(n, s)| (n.into(), s)).collect(),
+            constants: constants.into_iter().map(|(n, v)| (n.into(), v)).collect(),
+        }
+    }
+
+    /// Binds `name` to variable slot `slot`, replacing any earlier binding of `name`.
+    pub fn with_slot(mut self, name: impl Into<String>, slot: usize) -> Self {
+        let name = name.into();
+        self.constants.remove(&name);
+        self.slots.insert(name, slot);
+        self
+    }
+
+    /// Binds `name` to the constant `value`, replacing any earlier binding of `name`.
+    pub fn with_constant(mut self, name: impl Into<String>, value: f64) -> Self {
+        let name = name.into();
+        self.slots.remove(&name);
+        self.constants.insert(name, value);
+        self
+    }
+}
+
+impl Scope for Bindings {
+    fn resolve(&self, name: &str) -> Option<usize> {
+        self.slots.get(name).copied()
+    }
+
+    fn constant(&self, name: &str) -> Option<f64> {
+        self.constants.get(name).copied()
+    }
 }
 
 impl<F: Fn(&str) -> Option<usize>> Scope for F {

@@ -7,9 +7,11 @@
 
 use std::collections::HashSet;
 
+use super::builder::Builder;
 use super::error::{suggest_function, ExprError};
 use super::lexer::{tokenize, Token, TokenKind};
-use super::program::{Builder, Expression, Instr};
+use super::ops::Op;
+use super::program::Expression;
 use super::{Limits, Scope};
 
 /// A binary operator of the language.
@@ -48,7 +50,7 @@ enum Pending {
     Group { token: usize },
     /// A function call: `token` is the function's name, the `(` follows it.
     Call {
-        instr: Instr,
+        op: Op,
         arity: usize,
         token: usize,
         commas: usize,
@@ -106,7 +108,7 @@ impl<S: Scope + ?Sized> Parser<'_, '_, S> {
             if expect_operand {
                 match token.kind {
                     TokenKind::Number(value) => {
-                        self.builder.emit(Instr::Const(value));
+                        self.builder.constant(value);
                         expect_operand = false;
                     }
                     TokenKind::Name(name) => {
@@ -199,10 +201,10 @@ impl<S: Scope + ?Sized> Parser<'_, '_, S> {
         let token = self.tokens[i];
         let next = self.tokens.get(i + 1);
         let opens = next.is_some_and(|t| t.kind == TokenKind::LeftParen);
-        if let Some((instr, arity)) = Instr::function(name) {
+        if let Some((op, arity)) = Op::function(name) {
             if opens {
                 self.push(Pending::Call {
-                    instr,
+                    op,
                     arity,
                     token: i,
                     commas: 0,
@@ -220,13 +222,17 @@ impl<S: Scope + ?Sized> Parser<'_, '_, S> {
                 Some(_) => self.unexpected(i + 1, format!("{expected} of the function '{name}'")),
             });
         }
-        let slot = if name == "pi" {
-            None
+        // A name bound to a constant compiles to its value, so that folding applies to it.
+        let (constant, slot) = if name == "pi" {
+            (Some(std::f64::consts::PI), None)
         } else {
-            self.scope.resolve(name)
+            match self.scope.constant(name) {
+                Some(value) => (Some(value), None),
+                None => (None, self.scope.resolve(name)),
+            }
         };
         if opens {
-            if name == "pi" || slot.is_some() {
+            if constant.is_some() || slot.is_some() {
                 let expected = format!("an operator after '{name}', which is not a function");
                 return Err(self.unexpected(i + 1, format!("{expected}; write '*' to multiply")));
             }
@@ -237,19 +243,20 @@ impl<S: Scope + ?Sized> Parser<'_, '_, S> {
                 column: token.column,
             });
         }
-        if name == "pi" {
-            self.builder.emit(Instr::Const(std::f64::consts::PI));
+        if let Some(value) = constant {
+            self.builder.constant(value);
         } else if let Some(slot) = slot {
-            self.builder.emit(Instr::Load(slot));
-            if self.seen.insert(token.text) {
-                self.names.push(name.to_string());
-            }
+            self.builder.variable(slot);
         } else {
             return Err(ExprError::UnknownName {
                 name: name.to_string(),
                 line: token.line,
                 column: token.column,
             });
+        }
+        // Names bound to constants are listed too: the caller may need to know they were read.
+        if name != "pi" && self.seen.insert(token.text) {
+            self.names.push(name.to_string());
         }
         Ok(false)
     }
@@ -294,14 +301,14 @@ impl<S: Scope + ?Sized> Parser<'_, '_, S> {
 
     fn emit_operator(&mut self, pending: Pending) {
         match pending {
-            Pending::Negation { .. } => self.builder.emit(Instr::Neg),
-            Pending::Binary { op, .. } => match op {
-                BinaryOp::Add => self.builder.emit(Instr::Add),
-                BinaryOp::Sub => self.builder.emit(Instr::Sub),
-                BinaryOp::Mul => self.builder.emit(Instr::Mul),
-                BinaryOp::Div => self.builder.emit(Instr::Div),
-                BinaryOp::Pow => self.builder.power(),
-            },
+            Pending::Negation { .. } => self.builder.apply(Op::Neg),
+            Pending::Binary { op, .. } => self.builder.apply(match op {
+                BinaryOp::Add => Op::Add,
+                BinaryOp::Sub => Op::Sub,
+                BinaryOp::Mul => Op::Mul,
+                BinaryOp::Div => Op::Div,
+                BinaryOp::Pow => Op::Pow,
+            }),
             Pending::Group { .. } | Pending::Call { .. } => unreachable!("not an operator"),
         }
     }
@@ -338,7 +345,7 @@ impl<S: Scope + ?Sized> Parser<'_, '_, S> {
                 }
                 Some(Pending::Group { .. }) => return Ok(()),
                 Some(Pending::Call {
-                    instr,
+                    op,
                     arity,
                     token,
                     commas,
@@ -353,10 +360,7 @@ impl<S: Scope + ?Sized> Parser<'_, '_, S> {
                             column: name.column,
                         });
                     }
-                    match instr {
-                        Instr::Pow => self.builder.power(),
-                        _ => self.builder.emit(instr),
-                    }
+                    self.builder.apply(op);
                     return Ok(());
                 }
                 Some(operator) => self.emit_operator(operator),

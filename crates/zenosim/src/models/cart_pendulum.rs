@@ -61,7 +61,7 @@ impl HybridLagrangian for CartPendulum {
         let (m, l) = (self.bob_mass, self.length);
         let (theta, theta_dot, x_dot) = (q[0], v[0], v[1]);
         x_dot * x_dot * (0.5 * (self.cart_mass + m))
-            + theta.cos() * x_dot * theta_dot * (m * l)
+            + theta.cos() * (m * l) * x_dot * theta_dot
             + theta_dot * theta_dot * (0.5 * m * l * l)
             - theta.cos() * (m * self.gravity * l)
     }

@@ -1,0 +1,260 @@
+//! `zenosim run`: check everything, then simulate, streaming the trajectory to
+//! `trajectory.csv`, and write `summary.json` last.
+
+use std::fmt::Write as _;
+use std::io::{BufWriter, Write};
+use std::path::PathBuf;
+
+use anyhow::{anyhow, Context};
+use zenosim::{
+    Derived, Execution, HybridLagrangian, Outcome, OutputGrid, Simulation, SimulationOptions,
+};
+use zenosim_model::ModelFile;
+
+use crate::cli::RunArgs;
+use crate::json_layout;
+use crate::output::OutputDir;
+use crate::progress::Progress;
+use crate::summary::{status, Record, Summary, TrajectoryJson};
+use crate::trajectory::{number, TrajectoryWriter};
+use crate::{
+    print_error, print_report, Classify, Failure, EXIT_FAILED, EXIT_OK, EXIT_ZENO_STALLED,
+};
+
+/// The trajectory's file name.
+pub const TRAJECTORY: &str = "trajectory.csv";
+/// The summary's file name.
+pub const SUMMARY: &str = "summary.json";
+/// The summary's levels written one entry per line: the top level and the lists in it (one
+/// event per line).
+const SUMMARY_INDENT: usize = 2;
+
+/// Runs the model of `args`; the exit status, or why nothing (or not everything) was written.
+pub fn run(args: &RunArgs) -> Result<u8, Failure> {
+    // Everything is checked before the output directory is touched.
+    let file = crate::input::load(&args.model, &args.sets).bad_input()?;
+    let options = options(&file, args);
+    let simulation = Simulation::new(&file.model, &file.initial.q, &file.initial.q_dot, options)
+        .map_err(|error| {
+            anyhow!(
+                "{}: cannot simulate this model: {error}",
+                args.model.display()
+            )
+        })
+        .bad_input()?;
+    let dir = args.out.clone().unwrap_or_else(|| default_dir(&file.name));
+
+    let out = OutputDir::prepare(&dir, SUMMARY).output()?;
+    let constraints: Vec<String> = file
+        .model
+        .constraints()
+        .iter()
+        .map(|c| c.name.clone())
+        .collect();
+
+    let (csv_partial, csv_file) = out.create(TRAJECTORY).output()?;
+    let mut writer = TrajectoryWriter::new(
+        csv_file,
+        &file.model.coordinate_names(),
+        &file.velocity_names(),
+        &constraints,
+        Progress::new(options.t_end),
+    );
+    let execution = simulation.run(&mut writer);
+    let rows = writer.rows();
+    let csv_file = writer
+        .finish()
+        .with_context(|| format!("cannot write {}", csv_partial.target().display()))
+        .output()?;
+    csv_partial.commit(csv_file).output()?;
+
+    let final_energy = Derived::new(&file.model).map_or(f64::NAN, |d| {
+        d.energy(&execution.final_state.q, &execution.final_state.q_dot)
+    });
+    let message = message(&execution, &constraints);
+    let summary = Record {
+        file: &file,
+        options: &options,
+        run: &execution,
+        constraint_names: &constraints,
+        final_energy,
+        message: message.clone(),
+        trajectory: TrajectoryJson {
+            file: TRAJECTORY,
+            rows,
+        },
+    }
+    .summary();
+    let summary_path = write_summary(&out, &summary)?;
+
+    print_report(&report(
+        &message,
+        &file,
+        &execution,
+        &constraints,
+        &[(out.path(TRAJECTORY), Some(rows)), (summary_path, None)],
+    ));
+    Ok(match &execution.outcome {
+        Outcome::Finished => EXIT_OK,
+        Outcome::ZenoStalled { .. } => EXIT_ZENO_STALLED,
+        Outcome::Failed(error) => {
+            print_error(&format!(
+                "the simulation failed {error}; what was computed up to then is in {}",
+                dir.display()
+            ));
+            EXIT_FAILED
+        }
+    })
+}
+
+/// Writes `summary.json` (under its temporary name, then renamed); its path.
+fn write_summary(out: &OutputDir, summary: &Summary<'_>) -> Result<PathBuf, Failure> {
+    let (partial, file) = out.create(SUMMARY).output()?;
+    let path = partial.target().to_path_buf();
+    let cannot = || format!("cannot write {}", path.display());
+    let mut json = BufWriter::new(file);
+    json_layout::to_writer(&mut json, summary, SUMMARY_INDENT)
+        .map_err(anyhow::Error::from)
+        .and_then(|()| Ok(json.write_all(b"\n")?))
+        .with_context(cannot)
+        .output()?;
+    let file = json
+        .into_inner()
+        .map_err(|error| anyhow!(error.into_error()))
+        .with_context(cannot)
+        .output()?;
+    partial.commit(file).output()?;
+    Ok(path)
+}
+
+/// The file's settings, overridden by the command line's flags.
+fn options(file: &ModelFile, args: &RunArgs) -> SimulationOptions {
+    let mut options = file.options();
+    if let Some(t_end) = args.t_end {
+        options.t_end = t_end;
+    }
+    if let Some(rtol) = args.rtol {
+        options.tolerances.rtol = rtol;
+    }
+    if let Some(atol) = args.atol {
+        options.tolerances.atol = atol;
+    }
+    if let Some(zeno) = args.zeno {
+        options.zeno = zeno;
+    }
+    if let Some(dt) = args.dt {
+        options.output = OutputGrid::Uniform(dt);
+    }
+    options
+}
+
+/// `out/<model name>`, the name made a single safe path component: characters other than
+/// letters, digits, `-`, `_` and `.` become `_`, and leading dots are dropped.
+pub fn default_dir(name: &str) -> PathBuf {
+    let safe: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let safe = safe.trim_start_matches('.');
+    PathBuf::from("out").join(if safe.is_empty() { "model" } else { safe })
+}
+
+/// `count` `what`, with an English plural.
+fn plural(count: usize, what: &str) -> String {
+    if count == 1 {
+        format!("1 {what}")
+    } else {
+        format!("{count} {what}s")
+    }
+}
+
+/// The summary's message: what happened, in a sentence.
+fn message(run: &Execution, constraints: &[String]) -> String {
+    let name = |index: usize| constraints.get(index).map_or("?", String::as_str);
+    let impacts = plural(run.stats.impacts as usize, "impact");
+    match &run.outcome {
+        Outcome::Finished => format!(
+            "finished at t = {} after {impacts} and {}",
+            number(run.t_final),
+            plural(run.zeno.len(), "Zeno point")
+        ),
+        Outcome::ZenoStalled { constraint, t_zeno } => format!(
+            "stalled at the Zeno point of constraint '{}', τ∞ ≈ {}, after {impacts}: with \
+             zeno = off the plain hybrid system cannot go past it (use --zeno auto to carry the \
+             execution on)",
+            name(*constraint),
+            number(*t_zeno)
+        ),
+        Outcome::Failed(_) => format!("{} (after {impacts})", run.outcome),
+    }
+}
+
+/// The report printed after a run.
+fn report(
+    message: &str,
+    file: &ModelFile,
+    run: &Execution,
+    constraints: &[String],
+    files: &[(PathBuf, Option<u64>)],
+) -> String {
+    let name = |index: usize| constraints.get(index).map_or("?", String::as_str);
+    let mut text = String::new();
+    let _ = writeln!(text, "{}: {message}", file.name);
+    let _ = writeln!(text, "  status:  {}", status(&run.outcome));
+    let _ = writeln!(
+        text,
+        "  final:   t = {}, mode {}",
+        number(run.t_final),
+        run.final_mode.name()
+    );
+    let _ = writeln!(
+        text,
+        "  work:    {} impacts, {} steps ({} rejected)",
+        run.stats.impacts, run.stats.steps, run.stats.rejected_steps
+    );
+    for z in &run.zeno {
+        let _ = writeln!(
+            text,
+            "  zeno:    {} on '{}' after {}: τ∞ ≈ {}, switched at t = {}",
+            z.kind.name(),
+            name(z.constraint),
+            plural(z.impacts, "impact"),
+            number(z.t_zeno),
+            number(z.t_switch)
+        );
+    }
+    for (path, rows) in files {
+        match rows {
+            Some(rows) => {
+                let _ = writeln!(text, "  wrote    {} ({rows} rows)", path.display());
+            }
+            None => {
+                let _ = writeln!(text, "  wrote    {}", path.display());
+            }
+        }
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_directories_stay_inside_out() {
+        assert_eq!(
+            default_dir("ball-on-sine"),
+            PathBuf::from("out/ball-on-sine")
+        );
+        assert_eq!(default_dir("../../etc"), PathBuf::from("out/_.._etc"));
+        assert_eq!(default_dir(".."), PathBuf::from("out/model"));
+        assert_eq!(default_dir("a b/c"), PathBuf::from("out/a_b_c"));
+        assert_eq!(default_dir("bille é"), PathBuf::from("out/bille__"));
+    }
+}

@@ -1,0 +1,374 @@
+//! `summary.json`: the record of a run. Non-finite numbers (which JSON cannot hold) are written
+//! as `null`, as serde_json does; so is `max_step` when there is none.
+
+use serde::ser::{Serialize, SerializeMap, Serializer};
+use serde::Serialize as DeriveSerialize;
+use zenosim::{
+    ActiveSet, Completion, Event, Execution, HybridInterval, Method, Mode, Outcome,
+    SimulationOptions, State, ZenoPoint, ZenoStrategy,
+};
+use zenosim_model::ModelFile;
+
+/// The whole summary.
+#[derive(DeriveSerialize)]
+pub struct Summary<'a> {
+    /// The model's name.
+    pub model: &'a str,
+    /// Its description, if any.
+    pub description: Option<&'a str>,
+    /// `finished`, `zeno_stalled` or `failed`.
+    pub status: &'static str,
+    /// What happened, in a sentence.
+    pub message: String,
+    /// The coordinates' names.
+    pub coordinates: Vec<String>,
+    /// The velocities' names.
+    pub velocities: Vec<String>,
+    /// The constraints' names.
+    pub constraints: Vec<&'a str>,
+    /// The constraints' restitutions, by name.
+    pub restitutions: Pairs<'a>,
+    /// The parameters after `--set`, in the file's order.
+    pub parameters: Pairs<'a>,
+    /// The initial state after `--set`.
+    pub initial: StateJson<'a>,
+    /// The settings the run used (the file's, overridden by the command line).
+    pub settings: SettingsJson,
+    /// Where the run ended.
+    #[serde(rename = "final")]
+    pub final_: FinalJson<'a>,
+    /// The Zeno points reached.
+    pub zeno: Lazy<'a, ZenoPoint, ZenoJson<'a>>,
+    /// Every event.
+    pub events: Lazy<'a, Event, EventJson<'a>>,
+    /// The hybrid time domain.
+    pub intervals: Lazy<'a, HybridInterval, IntervalJson<'a>>,
+    /// Work counters.
+    pub stats: StatsJson,
+    /// The trajectory file and its number of data rows.
+    pub trajectory: TrajectoryJson,
+}
+
+/// A sequence serialised item by item as it is written, never held whole (a run may have
+/// 100 000 events).
+pub struct Lazy<'a, T, U> {
+    items: &'a [T],
+    map: Box<dyn Fn(&'a T) -> U + 'a>,
+}
+
+impl<'a, T, U> Lazy<'a, T, U> {
+    fn new(items: &'a [T], map: impl Fn(&'a T) -> U + 'a) -> Self {
+        Self {
+            items,
+            map: Box::new(map),
+        }
+    }
+}
+
+impl<T, U: Serialize> Serialize for Lazy<'_, T, U> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.collect_seq(self.items.iter().map(&self.map))
+    }
+}
+
+/// Name → value pairs, serialised as a JSON object in their order.
+pub struct Pairs<'a>(pub Vec<(&'a str, f64)>);
+
+impl Serialize for Pairs<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(self.0.len()))?;
+        for (name, value) in &self.0 {
+            map.serialize_entry(name, value)?;
+        }
+        map.end()
+    }
+}
+
+/// A state `(q, q̇)`.
+#[derive(DeriveSerialize)]
+pub struct StateJson<'a> {
+    pub q: &'a [f64],
+    pub q_dot: &'a [f64],
+}
+
+impl<'a> From<&'a State> for StateJson<'a> {
+    fn from(state: &'a State) -> Self {
+        Self {
+            q: &state.q,
+            q_dot: &state.q_dot,
+        }
+    }
+}
+
+/// The Zeno strategy: `"auto"`, `"off"` or `{"epsilon": ε}`.
+#[derive(DeriveSerialize)]
+#[serde(untagged)]
+pub enum ZenoSetting {
+    Name(&'static str),
+    Epsilon { epsilon: f64 },
+}
+
+impl From<ZenoStrategy> for ZenoSetting {
+    fn from(zeno: ZenoStrategy) -> Self {
+        match zeno {
+            ZenoStrategy::Auto => Self::Name("auto"),
+            ZenoStrategy::Off => Self::Name("off"),
+            ZenoStrategy::Epsilon(epsilon) => Self::Epsilon { epsilon },
+        }
+    }
+}
+
+/// The run's settings.
+#[derive(DeriveSerialize)]
+pub struct SettingsJson {
+    pub t_end: f64,
+    pub rtol: f64,
+    pub atol: f64,
+    pub zeno: ZenoSetting,
+    /// The sampling interval, or `null` for every step.
+    pub dt: Option<f64>,
+    pub method: &'static str,
+    pub completion: &'static str,
+    /// The largest step, or `null` for none.
+    pub max_step: Option<f64>,
+    pub max_events: u64,
+    pub max_steps: u64,
+}
+
+impl From<&SimulationOptions> for SettingsJson {
+    fn from(o: &SimulationOptions) -> Self {
+        Self {
+            t_end: o.t_end,
+            rtol: o.tolerances.rtol,
+            atol: o.tolerances.atol,
+            zeno: o.zeno.into(),
+            dt: match o.output {
+                zenosim::OutputGrid::Steps => None,
+                zenosim::OutputGrid::Uniform(dt) => Some(dt),
+            },
+            method: method_name(o.method),
+            completion: match o.completion {
+                Completion::Projection => "projection",
+                Completion::ModelMap => "model_map",
+            },
+            max_step: o.max_step.is_finite().then_some(o.max_step),
+            max_events: o.max_events,
+            max_steps: o.max_steps,
+        }
+    }
+}
+
+/// The name a model file gives a Runge–Kutta pair.
+pub fn method_name(method: Method) -> &'static str {
+    match method {
+        Method::Dop853 => "dop853",
+        Method::Dopri5 => "dopri5",
+    }
+}
+
+/// Where the run ended.
+#[derive(DeriveSerialize)]
+pub struct FinalJson<'a> {
+    pub t: f64,
+    pub mode: &'static str,
+    pub active: Vec<&'a str>,
+    pub q: &'a [f64],
+    pub q_dot: &'a [f64],
+    pub energy: f64,
+}
+
+/// A Zeno point.
+#[derive(DeriveSerialize)]
+pub struct ZenoJson<'a> {
+    pub constraint: &'a str,
+    pub kind: &'static str,
+    pub t_switch: f64,
+    /// The estimate of τ∞.
+    pub t_zeno: f64,
+    pub impacts: usize,
+    pub ratio: Option<f64>,
+    /// The state after R∞ (the last state reached, when stalled).
+    pub point: StateJson<'a>,
+}
+
+/// An event.
+#[derive(DeriveSerialize)]
+pub struct EventJson<'a> {
+    pub kind: &'static str,
+    pub t: f64,
+    pub constraint: &'a str,
+    pub before: StateJson<'a>,
+    pub after: StateJson<'a>,
+}
+
+/// An interval of the hybrid time domain.
+#[derive(DeriveSerialize)]
+pub struct IntervalJson<'a> {
+    pub start: f64,
+    pub end: f64,
+    pub mode: &'static str,
+    pub active: Vec<&'a str>,
+}
+
+/// The work counters.
+#[derive(DeriveSerialize)]
+pub struct StatsJson {
+    pub steps: u64,
+    pub rejected_steps: u64,
+    pub rhs_evals: u64,
+    pub impacts: u64,
+    pub spurious_events: u64,
+    pub events: usize,
+}
+
+/// The trajectory file.
+#[derive(DeriveSerialize)]
+pub struct TrajectoryJson {
+    pub file: &'static str,
+    pub rows: u64,
+}
+
+/// `finished`, `zeno_stalled` or `failed`.
+pub fn status(outcome: &Outcome) -> &'static str {
+    match outcome {
+        Outcome::Finished => "finished",
+        Outcome::ZenoStalled { .. } => "zeno_stalled",
+        Outcome::Failed(_) => "failed",
+    }
+}
+
+/// The summary of `run` of the model `file` with `options`.
+pub struct Record<'a> {
+    pub file: &'a ModelFile,
+    pub options: &'a SimulationOptions,
+    pub run: &'a Execution,
+    pub constraint_names: &'a [String],
+    pub final_energy: f64,
+    pub message: String,
+    pub trajectory: TrajectoryJson,
+}
+
+impl<'a> Record<'a> {
+    /// The summary, borrowing from the record.
+    pub fn summary(self) -> Summary<'a> {
+        let names = self.constraint_names;
+        let name = move |index: usize| names.get(index).map_or("?", String::as_str);
+        let run = self.run;
+        let file = self.file;
+        use zenosim::HybridLagrangian as _;
+        Summary {
+            model: &file.name,
+            description: file.description.as_deref(),
+            status: status(&run.outcome),
+            message: self.message,
+            coordinates: file.model.coordinate_names(),
+            velocities: file.velocity_names(),
+            constraints: names.iter().map(String::as_str).collect(),
+            restitutions: Pairs(
+                file.model
+                    .constraints()
+                    .iter()
+                    .map(|c| (c.name.as_str(), c.restitution))
+                    .collect(),
+            ),
+            parameters: Pairs(
+                file.parameters
+                    .iter()
+                    .map(|(n, v)| (n.as_str(), *v))
+                    .collect(),
+            ),
+            initial: (&file.initial).into(),
+            settings: self.options.into(),
+            final_: FinalJson {
+                t: run.t_final,
+                mode: run.final_mode.name(),
+                active: active_of(run.final_mode, names),
+                q: &run.final_state.q,
+                q_dot: &run.final_state.q_dot,
+                energy: self.final_energy,
+            },
+            zeno: Lazy::new(&run.zeno, move |z| ZenoJson {
+                constraint: name(z.constraint),
+                kind: z.kind.name(),
+                t_switch: z.t_switch,
+                t_zeno: z.t_zeno,
+                impacts: z.impacts,
+                ratio: z.ratio,
+                point: (&z.point).into(),
+            }),
+            events: Lazy::new(&run.events, move |e| EventJson {
+                kind: e.kind.name(),
+                t: e.t,
+                constraint: name(e.constraint),
+                before: (&e.before).into(),
+                after: (&e.after).into(),
+            }),
+            intervals: Lazy::new(&run.intervals, move |i| IntervalJson {
+                start: i.start,
+                end: i.end,
+                mode: i.mode.name(),
+                active: active_of(i.mode, names),
+            }),
+            stats: StatsJson {
+                steps: run.stats.steps,
+                rejected_steps: run.stats.rejected_steps,
+                rhs_evals: run.stats.rhs_evals,
+                impacts: run.stats.impacts,
+                spurious_events: run.stats.spurious_events,
+                events: run.events.len(),
+            },
+            trajectory: self.trajectory,
+        }
+    }
+}
+
+/// The names of the constraints active in `mode`.
+pub fn active_of(mode: Mode, names: &[String]) -> Vec<&str> {
+    match mode {
+        Mode::Free => Vec::new(),
+        Mode::Constrained(set) => active_names(set, names),
+    }
+}
+
+/// The names of the constraints in `set`.
+pub fn active_names(set: ActiveSet, names: &[String]) -> Vec<&str> {
+    set.iter()
+        .filter_map(|i| names.get(i).map(String::as_str))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn non_finite_numbers_are_null() {
+        let json = serde_json::to_string(&FinalJson {
+            t: f64::NAN,
+            mode: "free",
+            active: vec![],
+            q: &[f64::INFINITY, 1.5],
+            q_dot: &[],
+            energy: f64::NEG_INFINITY,
+        })
+        .unwrap();
+        assert_eq!(
+            json,
+            r#"{"t":null,"mode":"free","active":[],"q":[null,1.5],"q_dot":[],"energy":null}"#
+        );
+    }
+
+    #[test]
+    fn zeno_settings_are_named() {
+        let s = |z| serde_json::to_string(&ZenoSetting::from(z)).unwrap();
+        assert_eq!(s(ZenoStrategy::Auto), r#""auto""#);
+        assert_eq!(s(ZenoStrategy::Off), r#""off""#);
+        assert_eq!(s(ZenoStrategy::Epsilon(1e-3)), r#"{"epsilon":0.001}"#);
+    }
+
+    #[test]
+    fn pairs_keep_their_order() {
+        let json = serde_json::to_string(&Pairs(vec![("m", 1.0), ("g", 9.81), ("a", 2.0)]));
+        assert_eq!(json.unwrap(), r#"{"m":1.0,"g":9.81,"a":2.0}"#);
+    }
+}

@@ -1,0 +1,192 @@
+//! `trajectory.csv`, streamed row by row as the engine delivers its samples: memory stays flat
+//! however long the run.
+
+use std::fmt::Write as _;
+use std::io;
+
+use zenosim::{Event, Observer, Sample};
+
+use crate::progress::Progress;
+
+/// The observer of a run: writes every sample as a CSV row and moves the progress bar.
+///
+/// [`Observer::sample`] cannot fail, so the first write error is kept (and nothing more is
+/// written); [`TrajectoryWriter::finish`] returns it.
+pub struct TrajectoryWriter<W: io::Write> {
+    csv: csv::Writer<W>,
+    number: String,
+    rows: u64,
+    error: Option<io::Error>,
+    progress: Progress,
+}
+
+impl<W: io::Write> TrajectoryWriter<W> {
+    /// A writer of the columns `t,mode,<q...>,<q_dot...>,h_<c>...,lambda_<c>...,energy`.
+    pub fn new(
+        out: W,
+        coordinates: &[String],
+        velocities: &[String],
+        constraints: &[String],
+        progress: Progress,
+    ) -> Self {
+        let csv = csv::WriterBuilder::new()
+            .buffer_capacity(1 << 16)
+            .from_writer(out);
+        let mut writer = Self {
+            csv,
+            number: String::with_capacity(32),
+            rows: 0,
+            error: None,
+            progress,
+        };
+        let header = ["t", "mode"]
+            .into_iter()
+            .map(str::to_string)
+            .chain(coordinates.iter().cloned())
+            .chain(velocities.iter().cloned())
+            .chain(constraints.iter().map(|c| format!("h_{c}")))
+            .chain(constraints.iter().map(|c| format!("lambda_{c}")))
+            .chain(std::iter::once("energy".to_string()));
+        let written = writer.csv.write_record(header);
+        writer.keep(written);
+        writer
+    }
+
+    /// The data rows written so far.
+    pub fn rows(&self) -> u64 {
+        self.rows
+    }
+
+    /// Flushes everything and returns the underlying writer, or the first error.
+    pub fn finish(mut self) -> io::Result<W> {
+        self.progress.finish();
+        if let Some(error) = self.error {
+            return Err(error);
+        }
+        self.csv.into_inner().map_err(|error| error.into_error())
+    }
+
+    fn keep(&mut self, result: csv::Result<()>) {
+        if let Err(error) = result {
+            if self.error.is_none() {
+                self.error = Some(error.into());
+            }
+        }
+    }
+
+    fn field(&mut self, x: f64) -> csv::Result<()> {
+        format_number(&mut self.number, x);
+        self.csv.write_field(self.number.as_bytes())
+    }
+
+    fn row(&mut self, s: &Sample<'_>) -> csv::Result<()> {
+        self.field(s.t)?;
+        self.csv.write_field(s.mode.name())?;
+        for &x in s.q.iter().chain(s.q_dot).chain(s.h).chain(s.lambda) {
+            self.field(x)?;
+        }
+        self.field(s.energy)?;
+        self.csv.write_record(None::<&[u8]>)
+    }
+}
+
+impl<W: io::Write> Observer for TrajectoryWriter<W> {
+    fn sample(&mut self, sample: &Sample<'_>) {
+        self.progress.update(sample.t);
+        if self.error.is_some() {
+            return;
+        }
+        let written = self.row(sample);
+        self.keep(written);
+        self.rows += 1;
+    }
+
+    fn event(&mut self, _event: &Event) {}
+}
+
+/// Writes `x` in its shortest round-trip form: positional (`0.25`, `-3`) for moderate
+/// magnitudes, scientific (`1.5e-17`, `2e20`) for very small or large ones, where positional
+/// would spell out dozens of zeros; `NaN`, `inf`, `-inf` for non-finite values.
+pub fn format_number(buf: &mut String, x: f64) {
+    buf.clear();
+    let magnitude = x.abs();
+    let positional = x == 0.0 || !x.is_finite() || (1e-5..1e16).contains(&magnitude);
+    // Writing to a String cannot fail.
+    let _ = if positional {
+        write!(buf, "{x}")
+    } else {
+        write!(buf, "{x:e}")
+    };
+}
+
+/// `x` as [`format_number`] writes it.
+pub fn number(x: f64) -> String {
+    let mut buf = String::new();
+    format_number(&mut buf, x);
+    buf
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_round_trip() {
+        let mut buf = String::new();
+        for x in [
+            0.0,
+            -0.0,
+            1.0,
+            -2.5,
+            0.1 + 0.2,
+            1e-5,
+            9.99e-6,
+            1.5e-17,
+            -3.2e-300,
+            f64::MIN_POSITIVE,
+            5e-324,
+            1e16,
+            123456789012345.6,
+            f64::MAX,
+            std::f64::consts::PI,
+        ] {
+            format_number(&mut buf, x);
+            let back: f64 = buf.parse().unwrap();
+            assert_eq!(back.to_bits(), x.to_bits(), "{x} -> {buf}");
+            assert!(buf.len() <= 24, "{buf}");
+        }
+        format_number(&mut buf, f64::NAN);
+        assert_eq!(buf, "NaN");
+        format_number(&mut buf, f64::NEG_INFINITY);
+        assert_eq!(buf, "-inf");
+    }
+
+    #[test]
+    fn rows_follow_the_header() {
+        use zenosim::{ActiveSet, Mode};
+        let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let mut writer = TrajectoryWriter::new(
+            Vec::new(),
+            &names(&["x", "y"]),
+            &names(&["x_dot", "y_dot"]),
+            &names(&["floor", "left wall"]),
+            Progress::hidden(),
+        );
+        writer.sample(&Sample {
+            t: 0.5,
+            mode: Mode::Constrained(ActiveSet::single(1)),
+            q: &[1.0, 2e-20],
+            q_dot: &[-0.25, 0.0],
+            h: &[1.0, 0.0],
+            lambda: &[0.0, -9.81],
+            energy: f64::NAN,
+        });
+        assert_eq!(writer.rows(), 1);
+        let text = String::from_utf8(writer.finish().unwrap()).unwrap();
+        assert_eq!(
+            text,
+            "t,mode,x,y,x_dot,y_dot,h_floor,h_left wall,lambda_floor,lambda_left wall,energy\n\
+             0.5,constrained,1,2e-20,-0.25,0,1,0,0,-9.81,NaN\n"
+        );
+    }
+}

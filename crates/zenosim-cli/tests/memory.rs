@@ -1,0 +1,85 @@
+//! Memory stays flat however long the run: a million accepted steps, streamed to disk, in under
+//! 50 MB resident. Linux only (it reads the child's peak RSS, VmHWM, from /proc).
+//!
+//! `cargo test -p zenosim-cli --test memory -- --nocapture` prints the figures.
+
+mod common;
+
+/// A ball thrown far above its floor, so that it flies the whole run; `max_step` makes the
+/// integrator take 10⁶ steps in t ∈ [0, 1].
+#[cfg(target_os = "linux")]
+const LONG_FLIGHT: &str = r#"
+name = "long-flight"
+coordinates = ["x"]
+lagrangian = "0.5*x_dot^2 - g*x"
+
+[parameters]
+g = 9.81
+
+[[constraint]]
+name = "floor"
+h = "x"
+restitution = 0.5
+
+[initial]
+x = 1000.0
+
+[simulation]
+t_end = 1.0
+max_step = 1e-6
+method = "dopri5"
+"#;
+
+/// The peak resident set (VmHWM) of process `pid` in kB, if it can be read.
+#[cfg(target_os = "linux")]
+fn peak_kb(pid: u32) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_million_steps_stay_under_50_mb() {
+    use std::process::{Command, Stdio};
+    use std::time::{Duration, Instant};
+
+    let scratch = common::Scratch::new(LONG_FLIGHT);
+    let start = Instant::now();
+    let mut child = Command::new(common::binary())
+        .args(["run", "model.toml", "--out", "out"])
+        .current_dir(scratch.dir.path())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("zenosim starts");
+    let pid = child.id();
+    let mut peak = 0;
+    let status = loop {
+        if let Some(kb) = peak_kb(pid) {
+            peak = peak.max(kb);
+        }
+        if let Some(status) = child.try_wait().expect("the child can be waited for") {
+            break status;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    let elapsed = start.elapsed();
+    assert_eq!(status.code(), Some(0));
+    let summary = common::summary(&scratch.path("out"));
+    let steps = summary["stats"]["steps"].as_u64().unwrap();
+    let rows = summary["trajectory"]["rows"].as_u64().unwrap();
+    let bytes = std::fs::metadata(scratch.path("out/trajectory.csv"))
+        .unwrap()
+        .len();
+    println!(
+        "{steps} steps, {rows} rows, {:.1} MB of CSV in {:.2} s; peak RSS {:.1} MB",
+        bytes as f64 / 1e6,
+        elapsed.as_secs_f64(),
+        peak as f64 / 1024.0
+    );
+    assert!(steps >= 1_000_000, "{steps} steps");
+    assert!(rows > steps);
+    assert!(peak > 0, "the peak RSS was read");
+    assert!(peak < 50 * 1024, "peak RSS {peak} kB");
+}

@@ -1,0 +1,358 @@
+//! `zenosim run`: the files it writes, their contents, and the exit status of each outcome.
+
+mod common;
+
+use common::*;
+use serde_json::Value;
+
+/// The header the issue specifies, for the ball on the sine surface.
+const SINE_HEADER: &str = "t,mode,x1,x2,x3,x1_dot,x2_dot,x3_dot,h_surface,lambda_surface,energy";
+
+#[test]
+fn a_run_writes_a_complete_trajectory_and_summary() {
+    let scratch = Scratch::new(BALL_ON_SINE);
+    let output = scratch.run(&[]);
+    assert_exit(&output, 0);
+    let out = scratch.path("out");
+    assert_eq!(
+        files(&out),
+        ["summary.json", "trajectory.csv"],
+        "no temporary file is left"
+    );
+
+    let csv = Csv::read(&out.join("trajectory.csv"));
+    assert_eq!(csv.header.join(","), SINE_HEADER);
+    assert!(csv.rows.len() > 100);
+    assert!(
+        csv.rows.windows(2).all(|w| w[0].t <= w[1].t),
+        "t never decreases"
+    );
+    assert!(csv
+        .rows
+        .iter()
+        .all(|r| r.mode == "free" || r.mode == "constrained"));
+    assert_eq!(csv.rows[0].t, 0.0);
+
+    let s = summary(&out);
+    assert_eq!(s["model"], "ball-on-sine");
+    assert_eq!(s["status"], "finished");
+    assert!(s["message"].as_str().is_some_and(|m| !m.is_empty()));
+    assert_eq!(s["coordinates"], serde_json::json!(["x1", "x2", "x3"]));
+    assert_eq!(
+        s["velocities"],
+        serde_json::json!(["x1_dot", "x2_dot", "x3_dot"])
+    );
+    assert_eq!(s["constraints"], serde_json::json!(["surface"]));
+    assert_eq!(s["parameters"]["g"], 9.81);
+    assert_eq!(s["settings"]["t_end"], 6.0);
+    assert_eq!(s["settings"]["zeno"], "auto");
+    assert_eq!(s["settings"]["dt"], Value::Null);
+
+    // The final state is the CSV's last row.
+    let last = csv.rows.last().unwrap();
+    let fin = &s["final"];
+    assert_eq!(fin["t"].as_f64(), Some(last.t));
+    assert_eq!(fin["t"].as_f64(), Some(6.0));
+    assert_eq!(fin["mode"].as_str(), Some(last.mode.as_str()));
+    assert_eq!(numbers(&fin["q"]), last.values[0..3]);
+    assert_eq!(numbers(&fin["q_dot"]), last.values[3..6]);
+    let active = fin["active"].as_array().unwrap();
+    match last.mode.as_str() {
+        "free" => assert!(active.is_empty()),
+        _ => assert_eq!(fin["active"], serde_json::json!(["surface"])),
+    }
+
+    // The paper's numbers: 26 impacts, then the switch at t ≈ 2.0456 (README).
+    let zeno = s["zeno"].as_array().unwrap();
+    assert_eq!(zeno.len(), 1);
+    let z = &zeno[0];
+    assert_eq!(z["constraint"], "surface");
+    assert_eq!(z["kind"], "genuine");
+    let t_zeno = z["t_zeno"].as_f64().unwrap();
+    let t_switch = z["t_switch"].as_f64().unwrap();
+    assert!((t_zeno - 2.0456).abs() < 1e-3, "τ∞ = {t_zeno}");
+    assert!(t_switch <= t_zeno + 1e-9 && t_zeno - t_switch < 1e-3);
+    assert!(z["impacts"].as_u64().unwrap() > 10);
+    assert_eq!(numbers(&z["point"]["q"]).len(), 3);
+    assert_eq!(numbers(&z["point"]["q_dot"]).len(), 3);
+    assert!(z["ratio"].as_f64().is_some_and(|r| (r - 0.6).abs() < 0.05));
+
+    // Every event's states are rows of the CSV: the one before and the one after.
+    let events = s["events"].as_array().unwrap();
+    let impacts = events.iter().filter(|e| e["kind"] == "impact").count();
+    assert_eq!(s["stats"]["impacts"].as_u64(), Some(impacts as u64));
+    assert!(events.iter().any(|e| e["kind"] == "zeno"));
+    for e in events {
+        assert!(["impact", "zeno", "liftoff"].contains(&e["kind"].as_str().unwrap()));
+        assert_eq!(e["constraint"], "surface");
+        let t = e["t"].as_f64().unwrap();
+        for side in ["before", "after"] {
+            let q = numbers(&e[side]["q"]);
+            let q_dot = numbers(&e[side]["q_dot"]);
+            assert!(
+                csv.rows
+                    .iter()
+                    .any(|r| r.t == t && r.values[0..3] == q[..] && r.values[3..6] == q_dot[..]),
+                "the state {side} the {} at t = {t} is a row of the CSV",
+                e["kind"]
+            );
+        }
+    }
+
+    for key in [
+        "steps",
+        "rejected_steps",
+        "rhs_evals",
+        "impacts",
+        "spurious_events",
+    ] {
+        assert!(s["stats"][key].is_u64(), "stats.{key}");
+    }
+    assert_eq!(
+        s["trajectory"]["rows"].as_u64(),
+        Some(csv.rows.len() as u64)
+    );
+    let intervals = s["intervals"].as_array().unwrap();
+    assert_eq!(intervals.len(), events.len() + 1);
+    assert_eq!(intervals.last().unwrap()["end"].as_f64(), Some(6.0));
+
+    // The report names the outcome and the files.
+    let report = stdout(&output);
+    assert!(report.contains("finished"), "{report}");
+    assert!(
+        report.contains("trajectory.csv") && report.contains("summary.json"),
+        "{report}"
+    );
+    assert!(report.contains("genuine"), "{report}");
+}
+
+#[test]
+fn the_constrained_phase_has_its_multiplier_and_stays_on_the_surface() {
+    let scratch = Scratch::new(BALL);
+    assert_exit(&scratch.run(&[]), 0);
+    let csv = Csv::read(&scratch.path("out/trajectory.csv"));
+    assert_eq!(
+        csv.header.join(","),
+        "t,mode,x,x_dot,h_floor,lambda_floor,energy"
+    );
+    let constrained: Vec<_> = csv
+        .rows
+        .iter()
+        .filter(|r| r.mode == "constrained")
+        .collect();
+    assert!(!constrained.is_empty());
+    for r in constrained {
+        assert!(r.values[2].abs() < 1e-9, "h = 0 at t = {}", r.t);
+        // At rest on the floor the contact holds the weight: λ = −m g.
+        assert!((r.values[3] + 9.81).abs() < 1e-6, "λ = {}", r.values[3]);
+    }
+    let s = summary(&scratch.path("out"));
+    assert_eq!(s["final"]["mode"], "constrained");
+    assert_eq!(s["final"]["active"], serde_json::json!(["floor"]));
+    assert_eq!(s["description"], "A ball dropped on a floor");
+    assert_eq!(s["restitutions"]["floor"], 0.5);
+    // τ∞ = √(2/g)·(1+e)/(1−e), the closed form.
+    let tau = (2.0 / 9.81_f64).sqrt() * 3.0;
+    let t_zeno = s["zeno"][0]["t_zeno"].as_f64().unwrap();
+    assert!((t_zeno - tau).abs() < 1e-8, "{t_zeno} vs {tau}");
+}
+
+#[test]
+fn zeno_off_stalls_at_the_zeno_point_with_exit_3() {
+    let scratch = Scratch::new(BALL);
+    let output = scratch.run(&["--zeno", "off"]);
+    assert_exit(&output, 3);
+    let s = summary(&scratch.path("out"));
+    assert_eq!(s["status"], "zeno_stalled");
+    assert_eq!(s["settings"]["zeno"], "off");
+    let tau = (2.0 / 9.81_f64).sqrt() * 3.0;
+    assert!((s["final"]["t"].as_f64().unwrap() - tau).abs() < 1e-6);
+    assert!(s["message"].as_str().unwrap().contains("Zeno"));
+    assert_eq!(s["zeno"].as_array().unwrap().len(), 1);
+    let csv = Csv::read(&scratch.path("out/trajectory.csv"));
+    assert!(csv.rows.iter().all(|r| r.mode == "free"));
+    assert_eq!(
+        files(&scratch.path("out")),
+        ["summary.json", "trajectory.csv"]
+    );
+}
+
+#[test]
+fn the_papers_epsilon_rule_switches_early() {
+    let scratch = Scratch::new(BALL_ON_SINE);
+    assert_exit(&scratch.run(&["--zeno", "1e-3"]), 0);
+    let s = summary(&scratch.path("out"));
+    assert_eq!(s["settings"]["zeno"], serde_json::json!({"epsilon": 0.001}));
+    let z = &s["zeno"][0];
+    let (t_switch, t_zeno) = (
+        z["t_switch"].as_f64().unwrap(),
+        z["t_zeno"].as_f64().unwrap(),
+    );
+    assert!(t_switch < t_zeno, "{t_switch} < {t_zeno}");
+    // Fewer impacts than with the automatic rule, which resolves them to the tolerance.
+    let auto = Scratch::new(BALL_ON_SINE);
+    assert_exit(&auto.run(&[]), 0);
+    let auto = summary(&auto.path("out"));
+    assert!(s["stats"]["impacts"].as_u64() < auto["stats"]["impacts"].as_u64());
+}
+
+#[test]
+fn set_changes_a_parameter_and_an_initial_value() {
+    let scratch = Scratch::new(BALL);
+    // τ∞ = 3√(2/g) ≈ 1.35 for e = 0.5, 9√(2/g) ≈ 4.06 for e = 0.8: run past both.
+    assert_exit(&scratch.run(&["--t-end", "5"]), 0);
+    let base = summary(&scratch.path("out"));
+    assert_exit(&scratch.run(&["--t-end", "5", "--set", "e=0.8"]), 0);
+    let bouncier = summary(&scratch.path("out"));
+    assert_eq!(bouncier["parameters"]["e"], 0.8);
+    assert_eq!(bouncier["restitutions"]["floor"], 0.8);
+    assert!(
+        bouncier["stats"]["impacts"].as_u64() > base["stats"]["impacts"].as_u64(),
+        "a higher restitution bounces more"
+    );
+
+    assert_exit(&scratch.run(&["--set", "x=2", "--set", "g=2*4.905"]), 0);
+    let higher = summary(&scratch.path("out"));
+    assert_eq!(higher["initial"]["q"], serde_json::json!([2.0]));
+    let first = higher["events"][0]["t"].as_f64().unwrap();
+    let expected = (2.0 * 2.0 / 9.81_f64).sqrt();
+    assert!(
+        (first - expected).abs() < 1e-9,
+        "first impact at {first}, expected {expected}"
+    );
+}
+
+#[test]
+fn flags_override_the_files_settings() {
+    let scratch = Scratch::new(BALL);
+    let output = scratch.run(&["--t-end", "0.5", "--rtol", "1e-8", "--atol", "1e-9"]);
+    assert_exit(&output, 0);
+    let s = summary(&scratch.path("out"));
+    assert_eq!(s["settings"]["t_end"], 0.5);
+    assert_eq!(s["settings"]["rtol"], 1e-8);
+    assert_eq!(s["settings"]["atol"], 1e-9);
+    assert_eq!(s["final"]["t"], 0.5);
+}
+
+#[test]
+fn dt_samples_uniformly_apart_from_the_events() {
+    let scratch = Scratch::new(BALL_ON_SINE);
+    assert_exit(&scratch.run(&["--dt", "0.01"]), 0);
+    let s = summary(&scratch.path("out"));
+    assert_eq!(s["settings"]["dt"], 0.01);
+    let event_times: Vec<f64> = s["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["t"].as_f64().unwrap())
+        .collect();
+    let csv = Csv::read(&scratch.path("out/trajectory.csv"));
+    let grid: Vec<f64> = csv
+        .rows
+        .iter()
+        .map(|r| r.t)
+        .filter(|t| !event_times.contains(t))
+        .collect();
+    assert_eq!(grid.len(), 601, "t = 0, 0.01, …, 6");
+    for (k, t) in grid.iter().enumerate() {
+        assert!((t - k as f64 * 0.01).abs() < 1e-12, "row {k} at t = {t}");
+    }
+    // Each event has its two rows.
+    for t in &event_times {
+        assert!(
+            csv.rows.iter().filter(|r| r.t == *t).count() >= 2,
+            "t = {t}"
+        );
+    }
+}
+
+#[test]
+fn a_failing_run_keeps_what_it_computed_with_exit_1() {
+    let scratch = Scratch::new(&BALL.replace("t_end = 2.0", "t_end = 2.0\nmax_steps = 50"));
+    let output = scratch.run(&[]);
+    assert_exit(&output, 1);
+    let err = stderr(&output);
+    assert!(err.starts_with("error: "), "{err}");
+    assert!(err.contains("limit"), "{err}");
+    let out = scratch.path("out");
+    assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
+    let s = summary(&out);
+    assert_eq!(s["status"], "failed");
+    assert!(
+        s["message"].as_str().unwrap().contains("limit of 50 steps"),
+        "{}",
+        s["message"]
+    );
+    let csv = Csv::read(&out.join("trajectory.csv"));
+    assert!(!csv.rows.is_empty());
+    let last = csv.rows.last().unwrap();
+    assert_eq!(s["final"]["t"].as_f64(), Some(last.t));
+    assert_eq!(numbers(&s["final"]["q"]), last.values[0..1]);
+    assert!(last.t < 2.0);
+}
+
+#[test]
+fn too_many_events_fail_too() {
+    let scratch = Scratch::new(&BALL.replace("t_end = 2.0", "t_end = 2.0\nmax_events = 5"));
+    let output = scratch.run(&[]);
+    assert_exit(&output, 1);
+    let s = summary(&scratch.path("out"));
+    assert_eq!(s["status"], "failed");
+    assert_eq!(s["events"].as_array().unwrap().len(), 5);
+}
+
+#[test]
+fn the_default_output_directory_is_out_slash_the_model_name() {
+    let scratch = Scratch::new(BALL_ON_SINE);
+    let output = scratch.zenosim(&["run", "model.toml", "--t-end", "0.1"]);
+    assert_exit(&output, 0);
+    let dir = scratch.path("out/ball-on-sine");
+    assert_eq!(files(&dir), ["summary.json", "trajectory.csv"]);
+    assert!(stdout(&output).contains("out/ball-on-sine/trajectory.csv"));
+}
+
+#[test]
+fn a_rerun_replaces_the_files() {
+    let scratch = Scratch::new(BALL);
+    assert_exit(&scratch.run(&["--t-end", "0.2"]), 0);
+    assert_exit(&scratch.run(&["--t-end", "0.3"]), 0);
+    let s = summary(&scratch.path("out"));
+    assert_eq!(s["final"]["t"], 0.3);
+    let csv = Csv::read(&scratch.path("out/trajectory.csv"));
+    assert_eq!(csv.rows.last().unwrap().t, 0.3);
+    assert_eq!(
+        files(&scratch.path("out")),
+        ["summary.json", "trajectory.csv"]
+    );
+}
+
+#[test]
+fn an_unwritable_output_directory_is_exit_1_naming_it() {
+    let scratch = Scratch::new(BALL);
+    std::fs::write(scratch.path("plain-file"), "").unwrap();
+    let output = scratch.zenosim(&["run", "model.toml", "--out", "plain-file/sub"]);
+    assert_exit(&output, 1);
+    let err = stderr(&output);
+    assert!(err.starts_with("error: "), "{err}");
+    assert!(err.contains("plain-file/sub"), "{err}");
+}
+
+#[test]
+fn a_full_disk_is_exit_1_and_leaves_no_partial_file() {
+    // /dev/full accepts opens and fails every write with ENOSPC; a symlink makes it the
+    // temporary file (Linux only).
+    if !std::path::Path::new("/dev/full").exists() {
+        return;
+    }
+    let scratch = Scratch::new(BALL);
+    let out = scratch.path("out");
+    std::fs::create_dir(&out).unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink("/dev/full", out.join(".trajectory.csv.partial")).unwrap();
+    let output = scratch.run(&[]);
+    assert_exit(&output, 1);
+    let err = stderr(&output);
+    assert!(err.starts_with("error: cannot write "), "{err}");
+    assert!(err.contains("trajectory.csv"), "{err}");
+    assert!(files(&out).is_empty(), "{:?}", files(&out));
+}

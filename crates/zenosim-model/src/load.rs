@@ -1,0 +1,1442 @@
+//! Reading a model file: TOML to a checked [`ModelFile`], every mistake reported with its place.
+
+use std::collections::HashSet;
+use std::ops::Range;
+use std::str::FromStr;
+
+use toml::de::{DeTable, DeValue};
+use toml::Spanned;
+use zenosim::{
+    ActiveSet, Completion, Constraint, Derived, HybridLagrangian, Method, OutputGrid,
+    SimulationOptions, State, Tolerances, ZenoStrategy, MAX_DIMENSION,
+};
+
+use crate::error::{suggest, Lines, Location, ModelError};
+use crate::expr::{is_reserved, ExprError, Expression, Limits, Scope};
+use crate::file_model::FileModel;
+
+/// The keys a model file may have at its top level.
+const TOP_KEYS: [&str; 8] = [
+    "name",
+    "description",
+    "coordinates",
+    "lagrangian",
+    "parameters",
+    "constraint",
+    "initial",
+    "simulation",
+];
+
+/// The keys of a `[[constraint]]`.
+const CONSTRAINT_KEYS: [&str; 4] = ["name", "h", "restitution", "zeno_reset"];
+
+/// The keys of `[simulation]`.
+const SIMULATION_KEYS: [&str; 9] = [
+    "t_end",
+    "rtol",
+    "atol",
+    "zeno",
+    "method",
+    "dt",
+    "max_step",
+    "max_events",
+    "max_steps",
+];
+
+/// What a model file sets under `[simulation]`, with zenosim's defaults for the rest.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// `t_end` (default 10).
+    pub t_end: f64,
+    /// `rtol`, `atol` (default 1e-10 each).
+    pub tolerances: Tolerances,
+    /// `zeno`: `"auto"` (default), `"off"` or `{ epsilon = ε }`.
+    pub zeno: ZenoStrategy,
+    /// `method`: `"dop853"` (default) or `"dopri5"`.
+    pub method: Method,
+    /// `dt`: sample the trajectory every `dt` instead of at every step.
+    pub dt: Option<f64>,
+    /// `max_step` (default: none).
+    pub max_step: f64,
+    /// `max_events` (default 100 000).
+    pub max_events: u64,
+    /// `max_steps` (default 10 000 000).
+    pub max_steps: u64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        let defaults = SimulationOptions::default();
+        Self {
+            t_end: defaults.t_end,
+            tolerances: defaults.tolerances,
+            zeno: defaults.zeno,
+            method: defaults.method,
+            dt: None,
+            max_step: defaults.max_step,
+            max_events: defaults.max_events,
+            max_steps: defaults.max_steps,
+        }
+    }
+}
+
+/// A model file, read and checked: the model, its initial state and its run settings.
+#[derive(Clone, Debug)]
+pub struct ModelFile {
+    /// `name`.
+    pub name: String,
+    /// `description`, if given.
+    pub description: Option<String>,
+    /// The hybrid Lagrangian.
+    pub model: FileModel,
+    /// The parameters and their values (after `--set`), in the order of the file.
+    pub parameters: Vec<(String, f64)>,
+    /// The initial state (after `--set`).
+    pub initial: State,
+    /// `[simulation]`.
+    pub settings: Settings,
+}
+
+impl ModelFile {
+    /// The engine's options for these settings. A model with a `zeno_reset` uses it as `R∞`.
+    pub fn options(&self) -> SimulationOptions {
+        let s = &self.settings;
+        let any_reset = (0..self.model.constraints().len()).any(|i| self.model.has_zeno_reset(i));
+        SimulationOptions {
+            t_end: s.t_end,
+            tolerances: s.tolerances,
+            method: s.method,
+            zeno: s.zeno,
+            completion: if any_reset {
+                Completion::ModelMap
+            } else {
+                Completion::Projection
+            },
+            output: s.dt.map_or(OutputGrid::Steps, OutputGrid::Uniform),
+            max_step: s.max_step,
+            max_events: s.max_events,
+            max_steps: s.max_steps,
+        }
+    }
+
+    /// The velocity names, `<coordinate>_dot`.
+    pub fn velocity_names(&self) -> Vec<String> {
+        self.model
+            .coordinate_names()
+            .iter()
+            .map(|c| format!("{c}_dot"))
+            .collect()
+    }
+}
+
+/// A command-line override `NAME=VALUE` of a parameter or an initial value; `VALUE` is a number
+/// or a formula of the parameters, as in the file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Override {
+    /// The name set.
+    pub name: String,
+    /// Its new value, as written.
+    pub value: String,
+}
+
+impl FromStr for Override {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.split_once('=') {
+            Some((name, value)) if !name.trim().is_empty() && !value.trim().is_empty() => {
+                Ok(Self {
+                    name: name.trim().to_string(),
+                    value: value.trim().to_string(),
+                })
+            }
+            _ => Err(format!(
+                "`{s}` is not NAME=VALUE: write e.g. --set e=0.8 or --set x2_dot=1.5"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for Override {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}={}", self.name, self.value)
+    }
+}
+
+/// Reads the model file `source`; `file` is its name as the user gave it (for messages).
+/// `overrides` replace parameters or initial values.
+///
+/// Everything is checked before the model is returned: the TOML, every key and name, every
+/// formula, the parameters (no cycles, finite values), the restitutions (in `[0, 1]`), the
+/// settings, and the initial state (admissible, `h ≥ 0`, with a positive definite mass matrix).
+pub fn parse_model(
+    file: &str,
+    source: &str,
+    overrides: &[Override],
+) -> Result<ModelFile, ModelError> {
+    let cx = Cx {
+        file,
+        source,
+        lines: Lines::new(source),
+    };
+    let document = DeTable::parse(source).map_err(|error| cx.toml_error(&error))?;
+    cx.model(document.get_ref(), overrides)
+}
+
+/// A number or a formula, with where it came from.
+#[derive(Clone, Debug)]
+struct Formula {
+    /// Its key path (`parameters.m`) or the override (`--set m=2`).
+    key: String,
+    origin: Origin,
+    body: Body,
+}
+
+#[derive(Clone, Debug)]
+enum Origin {
+    /// In the file: the value's byte span, and where the string's text starts when it is
+    /// written without escapes (so positions inside it map to the file exactly).
+    File {
+        span: Range<usize>,
+        text_start: Option<usize>,
+    },
+    /// A `--set` argument.
+    Override(String),
+}
+
+#[derive(Clone, Debug)]
+enum Body {
+    Number(f64),
+    Text(String),
+}
+
+/// What a formula may read.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Reads {
+    /// Parameters only, bound to slots (to evaluate the parameters in dependency order).
+    ParameterSlots,
+    /// Parameters only, as constants.
+    Constants,
+    /// Coordinates (slots `0..n`) and parameters.
+    Coordinates,
+    /// Coordinates, velocities (slots `n..2n`) and parameters.
+    State,
+}
+
+/// The names a formula is parsed against.
+struct Names<'a> {
+    coordinates: &'a [String],
+    velocities: &'a [String],
+    parameters: &'a [(String, f64)],
+    reads: Reads,
+}
+
+impl Scope for Names<'_> {
+    fn resolve(&self, name: &str) -> Option<usize> {
+        let n = self.coordinates.len();
+        match self.reads {
+            Reads::ParameterSlots => self.parameters.iter().position(|(p, _)| p == name),
+            Reads::Constants => None,
+            Reads::Coordinates => self.coordinates.iter().position(|c| c == name),
+            Reads::State => self.coordinates.iter().position(|c| c == name).or_else(|| {
+                self.velocities
+                    .iter()
+                    .position(|v| v == name)
+                    .map(|i| n + i)
+            }),
+        }
+    }
+
+    fn constant(&self, name: &str) -> Option<f64> {
+        if self.reads == Reads::ParameterSlots {
+            return None;
+        }
+        self.parameters
+            .iter()
+            .find(|(p, _)| p == name)
+            .map(|&(_, value)| value)
+    }
+}
+
+/// The file being read.
+struct Cx<'s> {
+    file: &'s str,
+    source: &'s str,
+    lines: Lines<'s>,
+}
+
+type Table<'s> = DeTable<'s>;
+type Item<'s> = Spanned<DeValue<'s>>;
+
+impl<'s> Cx<'s> {
+    fn at(
+        &self,
+        offset: usize,
+        key: &str,
+        message: impl Into<String>,
+        help: impl Into<String>,
+    ) -> ModelError {
+        self.lines
+            .error_at(self.file, offset, Some(key), message, Some(help.into()))
+    }
+
+    fn missing(
+        &self,
+        key: &str,
+        message: impl Into<String>,
+        help: impl Into<String>,
+    ) -> ModelError {
+        ModelError {
+            file: self.file.into(),
+            location: Location::Missing(key.to_string()),
+            message: message.into(),
+            help: Some(help.into()),
+            snippet: None,
+        }
+    }
+
+    fn toml_error(&self, error: &toml::de::Error) -> ModelError {
+        let message = error.message().trim_end().to_string();
+        let help = "fix the TOML: `key = value` pairs, strings in double quotes, tables as \
+                    [name] and [[constraint]] (see models/ for complete examples)";
+        match error.span() {
+            Some(span) => self.lines.error_at(
+                self.file,
+                span.start,
+                None,
+                format!("invalid TOML: {message}"),
+                Some(help.to_string()),
+            ),
+            None => ModelError::file(self.file, format!("invalid TOML: {message}"), help),
+        }
+    }
+
+    /// Refuses keys of `table` not in `allowed`, suggesting the closest allowed one.
+    fn known_keys(
+        &self,
+        table: &Table<'s>,
+        prefix: &str,
+        allowed: &[&str],
+    ) -> Result<(), ModelError> {
+        let mut unknown: Vec<_> = table
+            .iter()
+            .filter(|(k, _)| !allowed.contains(&k.get_ref().as_ref()))
+            .collect();
+        unknown.sort_by_key(|(k, _)| k.span().start);
+        if let Some((key, _)) = unknown.first() {
+            let name = key.get_ref().as_ref();
+            let hint = match suggest(name, allowed.iter().copied()) {
+                Some(s) => format!("did you mean `{s}`? "),
+                None => String::new(),
+            };
+            return Err(self.at(
+                key.span().start,
+                &join(prefix, name),
+                format!("unknown key `{name}`"),
+                format!("{hint}the keys here are {}", list(allowed)),
+            ));
+        }
+        Ok(())
+    }
+
+    fn model(&self, root: &Table<'s>, overrides: &[Override]) -> Result<ModelFile, ModelError> {
+        self.known_keys(root, "", &TOP_KEYS)?;
+
+        let name = self.required_string(
+            root,
+            "",
+            "name",
+            "a short name for the model, e.g. name = \"ball-on-sine\"",
+        )?;
+        if name.trim().is_empty() {
+            let item = root.get("name").expect("present");
+            return Err(self.at(
+                item.span().start,
+                "name",
+                "the name is empty",
+                "give the model a short name",
+            ));
+        }
+        let description = match root.get("description") {
+            Some(item) => Some(self.string(item, "description")?.to_string()),
+            None => None,
+        };
+
+        let coordinates = self.coordinates(root)?;
+        let velocities: Vec<String> = coordinates.iter().map(|c| format!("{c}_dot")).collect();
+        let parameters = self.parameters(root, &coordinates, &velocities, overrides)?;
+        let names = |reads| Names {
+            coordinates: &coordinates,
+            velocities: &velocities,
+            parameters: &parameters,
+            reads,
+        };
+
+        let lagrangian_item = root.get("lagrangian").ok_or_else(|| {
+            self.missing(
+                "lagrangian",
+                "the model has no Lagrangian",
+                format!(
+                    "add lagrangian = \"…\", L(q, q_dot) as a formula of the coordinates {} and \
+                     their velocities {}",
+                    list(&coordinates),
+                    list(&velocities)
+                ),
+            )
+        })?;
+        let lagrangian = self.formula(lagrangian_item, "lagrangian")?;
+        let lagrangian = self.compile(&lagrangian, &names(Reads::State), "the Lagrangian")?;
+
+        let constraints = self.constraints(root, &names)?;
+        // The trajectory's columns h_<constraint> and lambda_<constraint> must not repeat a
+        // coordinate's or a velocity's.
+        for c in &constraints {
+            for column in [format!("h_{}", c.name), format!("lambda_{}", c.name)] {
+                if let Some(i) = coordinates.iter().position(|q| *q == column) {
+                    let item = root.get("coordinates").expect("checked");
+                    return Err(self.at(
+                        item.span().start,
+                        &format!("coordinates[{i}]"),
+                        format!("coordinate `{column}` has the name of constraint `{}`'s column in trajectory.csv", c.name),
+                        "rename the coordinate or the constraint",
+                    ));
+                }
+            }
+        }
+
+        let initial = self.initial(
+            root,
+            &coordinates,
+            &velocities,
+            &names(Reads::Constants),
+            overrides,
+        )?;
+        let settings = self.settings(root, &names(Reads::Constants))?;
+
+        let mut model = FileModel {
+            coordinates,
+            lagrangian,
+            constraints: Vec::new(),
+            h: Vec::new(),
+            resets: Vec::new(),
+        };
+        for c in constraints {
+            model
+                .constraints
+                .push(Constraint::new(c.name, c.restitution));
+            model.h.push(c.h);
+            model.resets.push(c.reset);
+        }
+        self.check_initial_state(root, &model, &initial)?;
+
+        Ok(ModelFile {
+            name: name.to_string(),
+            description,
+            model,
+            parameters,
+            initial,
+            settings,
+        })
+    }
+
+    fn required_string<'t>(
+        &self,
+        table: &'t Table<'s>,
+        prefix: &str,
+        key: &str,
+        what: &str,
+    ) -> Result<&'t str, ModelError> {
+        let path = join(prefix, key);
+        match table.get(key) {
+            Some(item) => self.string(item, &path),
+            None => Err(self.missing(
+                &path,
+                format!("`{path}` is required"),
+                format!("add {key} = …: {what}"),
+            )),
+        }
+    }
+
+    fn string<'t>(&self, item: &'t Item<'s>, key: &str) -> Result<&'t str, ModelError> {
+        match item.get_ref() {
+            DeValue::String(s) => Ok(s.as_ref()),
+            other => Err(self.at(
+                item.span().start,
+                key,
+                format!("expected a string in double quotes, found {}", kind(other)),
+                format!("write {} = \"…\"", last(key)),
+            )),
+        }
+    }
+
+    fn table<'t>(
+        &self,
+        item: &'t Item<'s>,
+        key: &str,
+        example: &str,
+    ) -> Result<&'t Table<'s>, ModelError> {
+        match item.get_ref() {
+            DeValue::Table(t) => Ok(t),
+            other => Err(self.at(
+                item.span().start,
+                key,
+                format!("expected a table, found {}", kind(other)),
+                format!("write it as a table: {example}"),
+            )),
+        }
+    }
+
+    /// A number or a formula in a string.
+    fn formula(&self, item: &Item<'s>, key: &str) -> Result<Formula, ModelError> {
+        let span = item.span();
+        let body = match item.get_ref() {
+            DeValue::Integer(i) => match i64::from_str_radix(i.as_str(), i.radix()) {
+                Ok(v) => Body::Number(v as f64),
+                Err(_) => {
+                    return Err(self.at(
+                        span.start,
+                        key,
+                        "integer out of range",
+                        "write it as a float, e.g. 1e20",
+                    ))
+                }
+            },
+            DeValue::Float(f) => Body::Number(f.as_str().parse::<f64>().unwrap_or(f64::NAN)),
+            DeValue::String(s) => Body::Text(s.to_string()),
+            other => {
+                return Err(self.at(
+                    span.start,
+                    key,
+                    format!(
+                        "expected a number or a formula in quotes, found {}",
+                        kind(other)
+                    ),
+                    format!("write e.g. {} = 1.5 or {} = \"2*pi\"", last(key), last(key)),
+                ))
+            }
+        };
+        let text_start = match &body {
+            Body::Text(text) => self.text_start(&span, text),
+            Body::Number(_) => None,
+        };
+        Ok(Formula {
+            key: key.to_string(),
+            origin: Origin::File { span, text_start },
+            body,
+        })
+    }
+
+    /// Where the text of the string at `span` starts in the file, if the string holds `text`
+    /// verbatim (no escapes), so that positions inside it map to the file.
+    fn text_start(&self, span: &Range<usize>, text: &str) -> Option<usize> {
+        let raw = self.source.get(span.clone())?;
+        let quote = if raw.starts_with("\"\"\"") || raw.starts_with("'''") {
+            3
+        } else {
+            1
+        };
+        let inner = raw.get(quote..raw.len().checked_sub(quote)?)?;
+        // A newline right after an opening triple quote is not part of the string.
+        let skip = if quote == 3 {
+            if inner.starts_with("\r\n") {
+                2
+            } else {
+                usize::from(inner.starts_with('\n'))
+            }
+        } else {
+            0
+        };
+        (inner.get(skip..)? == text).then_some(span.start + quote + skip)
+    }
+
+    /// Compiles `formula` against `names`, reporting problems at their place in the file.
+    fn compile(
+        &self,
+        formula: &Formula,
+        names: &Names<'_>,
+        what: &str,
+    ) -> Result<Expression, ModelError> {
+        let text = match &formula.body {
+            Body::Number(v) => {
+                if !v.is_finite() {
+                    return Err(self.formula_error(
+                        formula,
+                        None,
+                        format!("{what} is {v}"),
+                        "give a finite number".to_string(),
+                    ));
+                }
+                // A number is the formula of its shortest exact decimal form.
+                format!("{v:?}")
+            }
+            Body::Text(text) => text.clone(),
+        };
+        Expression::parse_with(&text, names, &Limits::default()).map_err(|error| {
+            let (message, help) = describe(&error, names, what);
+            self.formula_error(
+                formula,
+                error.position().map(|p| offset_in(&text, p)),
+                message,
+                help,
+            )
+        })
+    }
+
+    /// An error in `formula`, at byte `offset` of its text when known.
+    fn formula_error(
+        &self,
+        formula: &Formula,
+        offset: Option<usize>,
+        message: String,
+        help: String,
+    ) -> ModelError {
+        match &formula.origin {
+            Origin::File { span, text_start } => {
+                let place = match (text_start, offset) {
+                    (Some(start), Some(offset)) => start + offset,
+                    _ => span.start,
+                };
+                self.at(place, &formula.key, message, help)
+            }
+            Origin::Override(arg) => ModelError {
+                file: self.file.into(),
+                location: Location::Override(arg.clone()),
+                message,
+                help: Some(help),
+                snippet: None,
+            },
+        }
+    }
+
+    /// A formula of the parameters, evaluated.
+    fn constant(
+        &self,
+        formula: &Formula,
+        names: &Names<'_>,
+        what: &str,
+    ) -> Result<f64, ModelError> {
+        let expression = self.compile(formula, names, what)?;
+        let value = expression.eval::<f64>(&[]);
+        if value.is_finite() {
+            Ok(value)
+        } else {
+            Err(self.formula_error(
+                formula,
+                None,
+                format!("{what} evaluates to {value}"),
+                not_finite_help(value),
+            ))
+        }
+    }
+
+    fn coordinates(&self, root: &Table<'s>) -> Result<Vec<String>, ModelError> {
+        let item = root.get("coordinates").ok_or_else(|| {
+            self.missing(
+                "coordinates",
+                "the model has no coordinates",
+                "add coordinates = [\"x\", \"y\"], the names of the generalised coordinates q \
+                 (their velocities are then x_dot, y_dot)",
+            )
+        })?;
+        let DeValue::Array(array) = item.get_ref() else {
+            return Err(self.at(
+                item.span().start,
+                "coordinates",
+                format!("expected a list of names, found {}", kind(item.get_ref())),
+                "write coordinates = [\"x\", \"y\"]",
+            ));
+        };
+        if array.is_empty() || array.len() > MAX_DIMENSION {
+            return Err(self.at(
+                item.span().start,
+                "coordinates",
+                format!("the model has {} coordinates", array.len()),
+                format!("zenosim simulates models with 1 to {MAX_DIMENSION} coordinates"),
+            ));
+        }
+        let mut names: Vec<String> = Vec::new();
+        for (i, entry) in array.iter().enumerate() {
+            let key = format!("coordinates[{i}]");
+            let name = self.string(entry, &key)?;
+            let offset = entry.span().start;
+            self.check_name(name, offset, &key, "a coordinate")?;
+            if name == "t" {
+                return Err(self.at(
+                    offset,
+                    &key,
+                    "`t` is the time and cannot name a coordinate",
+                    "choose another name",
+                ));
+            }
+            if name == "mode" || name == "energy" {
+                return Err(self.at(
+                    offset,
+                    &key,
+                    format!("`{name}` cannot name a coordinate: it is a column of trajectory.csv"),
+                    "choose another name",
+                ));
+            }
+            if names.iter().any(|c| c == name) {
+                return Err(self.at(
+                    offset,
+                    &key,
+                    format!("coordinate `{name}` is defined twice"),
+                    "give each coordinate its own name",
+                ));
+            }
+            if let Some(other) = names
+                .iter()
+                .find(|c| format!("{c}_dot") == name || format!("{name}_dot") == **c)
+            {
+                return Err(self.at(
+                    offset,
+                    &key,
+                    format!("coordinate `{name}` clashes with the velocity name of `{other}`"),
+                    "a coordinate's velocity is named <coordinate>_dot: rename one of them",
+                ));
+            }
+            names.push(name.to_string());
+        }
+        Ok(names)
+    }
+
+    /// Checks that `name` can name something: a plain identifier that is not a built-in.
+    fn check_name(
+        &self,
+        name: &str,
+        offset: usize,
+        key: &str,
+        what: &str,
+    ) -> Result<(), ModelError> {
+        let mut chars = name.chars();
+        let identifier = chars
+            .next()
+            .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            && chars.all(|c| c.is_ascii_alphanumeric() || c == '_');
+        if !identifier {
+            return Err(self.at(
+                offset,
+                key,
+                format!("`{name}` cannot name {what}"),
+                "names start with a letter or _ and hold only ASCII letters, digits and _",
+            ));
+        }
+        if is_reserved(name) {
+            return Err(self.at(
+                offset,
+                key,
+                format!("`{name}` is a built-in function or constant and cannot name {what}"),
+                "choose another name",
+            ));
+        }
+        Ok(())
+    }
+
+    /// `[parameters]` with the overrides applied, evaluated in dependency order.
+    fn parameters(
+        &self,
+        root: &Table<'s>,
+        coordinates: &[String],
+        velocities: &[String],
+        overrides: &[Override],
+    ) -> Result<Vec<(String, f64)>, ModelError> {
+        let mut formulas: Vec<(String, Formula)> = Vec::new();
+        if let Some(item) = root.get("parameters") {
+            let table = self.table(item, "parameters", "[parameters] with lines m = 1.0")?;
+            let mut entries: Vec<_> = table.iter().collect();
+            entries.sort_by_key(|(k, _)| k.span().start);
+            for (key, value) in entries {
+                let name = key.get_ref().as_ref();
+                let path = format!("parameters.{name}");
+                self.check_name(name, key.span().start, &path, "a parameter")?;
+                if name == "t" || coordinates.iter().chain(velocities).any(|c| c == name) {
+                    return Err(self.at(
+                        key.span().start,
+                        &path,
+                        format!("`{name}` is defined twice: it is already a coordinate, a velocity or the time"),
+                        "give the parameter another name",
+                    ));
+                }
+                formulas.push((name.to_string(), self.formula(value, &path)?));
+            }
+        }
+        for o in overrides {
+            if let Some((_, formula)) = formulas.iter_mut().find(|(p, _)| *p == o.name) {
+                *formula = override_formula(o);
+            } else if !coordinates.iter().chain(velocities).any(|c| *c == o.name) {
+                let known: Vec<&str> = formulas
+                    .iter()
+                    .map(|(p, _)| p.as_str())
+                    .chain(coordinates.iter().chain(velocities).map(String::as_str))
+                    .collect();
+                let hint = match suggest(&o.name, known.iter().copied()) {
+                    Some(s) => format!("did you mean `{s}`? "),
+                    None => String::new(),
+                };
+                return Err(ModelError {
+                    file: self.file.into(),
+                    location: Location::Override(o.to_string()),
+                    message: format!(
+                        "`{}` is neither a parameter nor a coordinate or velocity of this model",
+                        o.name
+                    ),
+                    help: Some(format!("{hint}--set takes one of {}", list(&known))),
+                    snippet: None,
+                });
+            }
+        }
+
+        // Each parameter's formula, over the parameters as slots, to find the dependencies.
+        let slots: Vec<(String, f64)> = formulas.iter().map(|(p, _)| (p.clone(), 0.0)).collect();
+        let names = Names {
+            coordinates,
+            velocities,
+            parameters: &slots,
+            reads: Reads::ParameterSlots,
+        };
+        let compiled = formulas
+            .iter()
+            .map(|(p, f)| self.compile(f, &names, &format!("parameter `{p}`")))
+            .collect::<Result<Vec<_>, _>>()?;
+
+        // Depth-first evaluation; a parameter met again while being evaluated closes a cycle.
+        let count = formulas.len();
+        let mut values: Vec<Option<f64>> = vec![None; count];
+        let mut path: Vec<usize> = Vec::new();
+        for start in 0..count {
+            self.evaluate_parameter(start, &formulas, &compiled, &mut values, &mut path)?;
+        }
+        Ok(formulas
+            .into_iter()
+            .zip(values)
+            .map(|((p, _), v)| (p, v.expect("every parameter was evaluated")))
+            .collect())
+    }
+
+    fn evaluate_parameter(
+        &self,
+        index: usize,
+        formulas: &[(String, Formula)],
+        compiled: &[Expression],
+        values: &mut [Option<f64>],
+        path: &mut Vec<usize>,
+    ) -> Result<f64, ModelError> {
+        if let Some(value) = values[index] {
+            return Ok(value);
+        }
+        if let Some(at) = path.iter().position(|&p| p == index) {
+            let cycle: Vec<&str> = path[at..]
+                .iter()
+                .chain([&index])
+                .map(|&p| formulas[p].0.as_str())
+                .collect();
+            let (name, formula) = &formulas[index];
+            return Err(self.formula_error(
+                formula,
+                None,
+                format!(
+                    "parameter `{name}` depends on itself: {}",
+                    cycle.join(" → ")
+                ),
+                "parameters may refer to each other in any order, but not in a cycle: give one \
+                 of them a value"
+                    .to_string(),
+            ));
+        }
+        path.push(index);
+        let mut inputs = vec![0.0; formulas.len()];
+        for &slot in compiled[index].slots() {
+            inputs[slot] = self.evaluate_parameter(slot, formulas, compiled, values, path)?;
+        }
+        path.pop();
+        let value = compiled[index].eval(&inputs);
+        let (name, formula) = &formulas[index];
+        if !value.is_finite() {
+            return Err(self.formula_error(
+                formula,
+                None,
+                format!("parameter `{name}` evaluates to {value}"),
+                not_finite_help(value),
+            ));
+        }
+        values[index] = Some(value);
+        Ok(value)
+    }
+
+    fn constraints<'n>(
+        &self,
+        root: &Table<'s>,
+        names: &impl Fn(Reads) -> Names<'n>,
+    ) -> Result<Vec<ParsedConstraint>, ModelError> {
+        let help = "add one [[constraint]] per unilateral constraint, with name = \"…\", \
+                    h = \"…\" (the admissible side is h >= 0) and restitution = 0.5";
+        let item = root
+            .get("constraint")
+            .ok_or_else(|| self.missing("constraint", "the model has no constraint", help))?;
+        let DeValue::Array(array) = item.get_ref() else {
+            return Err(self.at(
+                item.span().start,
+                "constraint",
+                format!(
+                    "expected [[constraint]] tables, found {}",
+                    kind(item.get_ref())
+                ),
+                help,
+            ));
+        };
+        if array.is_empty() || array.len() > ActiveSet::CAPACITY {
+            return Err(self.at(
+                item.span().start,
+                "constraint",
+                format!("the model has {} constraints", array.len()),
+                format!("zenosim needs 1 to {} constraints", ActiveSet::CAPACITY),
+            ));
+        }
+        let mut parsed: Vec<ParsedConstraint> = Vec::new();
+        let mut seen = HashSet::new();
+        for (i, entry) in array.iter().enumerate() {
+            let prefix = format!("constraint[{}]", i + 1);
+            let table = self.table(entry, &prefix, "[[constraint]] followed by its keys")?;
+            self.known_keys(table, &prefix, &CONSTRAINT_KEYS)?;
+            let name = self.required_string(
+                table,
+                &prefix,
+                "name",
+                "a name for the constraint, e.g. name = \"floor\"",
+            )?;
+            let name_item = table.get("name").expect("present");
+            let valid = !name.is_empty()
+                && name
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+            if !valid {
+                return Err(self.at(
+                    name_item.span().start,
+                    &join(&prefix, "name"),
+                    format!("`{name}` cannot name a constraint"),
+                    "constraint names hold only ASCII letters, digits, _ and - (they become \
+                     column names such as h_floor)",
+                ));
+            }
+            if !seen.insert(name.to_string()) {
+                return Err(self.at(
+                    name_item.span().start,
+                    &join(&prefix, "name"),
+                    format!("constraint `{name}` is defined twice"),
+                    "give each constraint its own name",
+                ));
+            }
+            let what = format!("h of constraint `{name}`");
+            let h_key = join(&prefix, "h");
+            let h_item = table.get("h").ok_or_else(|| {
+                self.missing(
+                    &h_key,
+                    format!("constraint `{name}` has no h"),
+                    "add h = \"…\", a formula of the coordinates; the admissible side is h >= 0",
+                )
+            })?;
+            let h_formula = self.formula(h_item, &h_key)?;
+            let h = self.compile(&h_formula, &names(Reads::Coordinates), &what)?;
+            if h.slots().is_empty() {
+                return Err(self.formula_error(
+                    &h_formula,
+                    None,
+                    format!("{what} does not depend on any coordinate"),
+                    "a unilateral constraint h(q) >= 0 must depend on the coordinates, e.g. h = \"y\" for a floor at y = 0".to_string(),
+                ));
+            }
+
+            let e_key = join(&prefix, "restitution");
+            let e_item = table.get("restitution").ok_or_else(|| {
+                self.missing(&e_key, format!("constraint `{name}` has no restitution"), "add restitution = 0.5, the coefficient of restitution in [0, 1] (0 plastic, 1 elastic)")
+            })?;
+            let e_formula = self.formula(e_item, &e_key)?;
+            let what_e = format!("the restitution of `{name}`");
+            let restitution = self.constant(&e_formula, &names(Reads::Constants), &what_e)?;
+            if !(0.0..=1.0).contains(&restitution) {
+                return Err(self.formula_error(
+                    &e_formula,
+                    None,
+                    format!("{what_e} is {restitution}, outside [0, 1]"),
+                    "a coefficient of restitution lies between 0 (perfectly plastic) and 1 (elastic)".to_string(),
+                ));
+            }
+
+            let reset = match table.get("zeno_reset") {
+                Some(item) => self.zeno_reset(item, &join(&prefix, "zeno_reset"), name, names)?,
+                None => Vec::new(),
+            };
+            parsed.push(ParsedConstraint {
+                name: name.to_string(),
+                h,
+                restitution,
+                reset,
+            });
+        }
+        Ok(parsed)
+    }
+
+    fn zeno_reset<'n>(
+        &self,
+        item: &Item<'s>,
+        key: &str,
+        constraint: &str,
+        names: &impl Fn(Reads) -> Names<'n>,
+    ) -> Result<Vec<(usize, Expression)>, ModelError> {
+        let table = self.table(
+            item,
+            key,
+            "zeno_reset = { x3 = \"sin(x2)\", x3_dot = \"cos(x2)*x2_dot\" }",
+        )?;
+        let state = names(Reads::State);
+        let mut entries: Vec<_> = table.iter().collect();
+        entries.sort_by_key(|(k, _)| k.span().start);
+        let mut reset = Vec::new();
+        for (target, value) in entries {
+            let target_name = target.get_ref().as_ref();
+            let path = join(key, target_name);
+            let Some(slot) = state.resolve(target_name) else {
+                return Err(self.at(
+                    target.span().start,
+                    &path,
+                    format!("`{target_name}` is not a coordinate or a velocity"),
+                    format!(
+                        "zeno_reset sets coordinates ({}) and velocities ({})",
+                        list(state.coordinates),
+                        list(state.velocities)
+                    ),
+                ));
+            };
+            let formula = self.formula(value, &path)?;
+            let what = format!("zeno_reset of `{constraint}`");
+            reset.push((slot, self.compile(&formula, &state, &what)?));
+        }
+        Ok(reset)
+    }
+
+    fn initial(
+        &self,
+        root: &Table<'s>,
+        coordinates: &[String],
+        velocities: &[String],
+        constants: &Names<'_>,
+        overrides: &[Override],
+    ) -> Result<State, ModelError> {
+        let n = coordinates.len();
+        let mut formulas: Vec<Option<Formula>> = vec![None; 2 * n];
+        let slot = |name: &str| {
+            coordinates
+                .iter()
+                .position(|c| c == name)
+                .or_else(|| velocities.iter().position(|v| v == name).map(|i| n + i))
+        };
+        if let Some(item) = root.get("initial") {
+            let table = self.table(item, "initial", "[initial] with lines x = 1.0, x_dot = 0.5")?;
+            for (key, value) in table {
+                let name = key.get_ref().as_ref();
+                let path = format!("initial.{name}");
+                let Some(index) = slot(name) else {
+                    let known: Vec<&str> = coordinates
+                        .iter()
+                        .chain(velocities)
+                        .map(String::as_str)
+                        .collect();
+                    let hint = match suggest(name, known.iter().copied()) {
+                        Some(s) => format!("did you mean `{s}`? "),
+                        None => String::new(),
+                    };
+                    return Err(self.at(
+                        key.span().start,
+                        &path,
+                        format!("`{name}` is not a coordinate or a velocity"),
+                        format!(
+                            "{hint}[initial] sets {}; the ones not given start at 0",
+                            list(&known)
+                        ),
+                    ));
+                };
+                formulas[index] = Some(self.formula(value, &path)?);
+            }
+        }
+        for o in overrides {
+            if let Some(index) = slot(&o.name) {
+                formulas[index] = Some(override_formula(o));
+            }
+        }
+        let mut values = vec![0.0; 2 * n];
+        for (index, formula) in formulas.iter().enumerate() {
+            if let Some(formula) = formula {
+                let name = if index < n {
+                    &coordinates[index]
+                } else {
+                    &velocities[index - n]
+                };
+                values[index] = self.constant(
+                    formula,
+                    constants,
+                    &format!("the initial value of `{name}`"),
+                )?;
+            }
+        }
+        let q_dot = values.split_off(n);
+        Ok(State { q: values, q_dot })
+    }
+
+    fn settings(&self, root: &Table<'s>, constants: &Names<'_>) -> Result<Settings, ModelError> {
+        let mut settings = Settings::default();
+        let Some(item) = root.get("simulation") else {
+            return Ok(settings);
+        };
+        let table = self.table(item, "simulation", "[simulation] with lines t_end = 6.0")?;
+        self.known_keys(table, "simulation", &SIMULATION_KEYS)?;
+        let positive = |key: &str, what: &str| -> Result<Option<f64>, ModelError> {
+            let Some(item) = table.get(key) else {
+                return Ok(None);
+            };
+            let path = format!("simulation.{key}");
+            let formula = self.formula(item, &path)?;
+            let value = self.constant(&formula, constants, &path)?;
+            if value > 0.0 {
+                Ok(Some(value))
+            } else {
+                Err(self.at(
+                    item.span().start,
+                    &path,
+                    format!("{key} is {value}; it must be > 0"),
+                    what,
+                ))
+            }
+        };
+        if let Some(t_end) = positive("t_end", "give the stop time, > 0")? {
+            settings.t_end = t_end;
+        }
+        if let Some(rtol) = positive("rtol", "give a relative tolerance > 0, e.g. 1e-10")? {
+            if rtol < 1e-15 {
+                let item = table.get("rtol").expect("present");
+                return Err(self.at(
+                    item.span().start,
+                    "simulation.rtol",
+                    format!("rtol = {rtol} is below what f64 resolves"),
+                    "give rtol >= 1e-15",
+                ));
+            }
+            settings.tolerances.rtol = rtol;
+        }
+        if let Some(atol) = positive("atol", "give an absolute tolerance > 0, e.g. 1e-10")? {
+            settings.tolerances.atol = atol;
+        }
+        settings.dt = positive(
+            "dt",
+            "give a sampling interval > 0, or leave dt out to sample every step",
+        )?;
+        if let Some(max_step) =
+            positive("max_step", "give a largest step > 0, or leave max_step out")?
+        {
+            settings.max_step = max_step;
+        }
+        for (key, target) in [
+            ("max_events", &mut settings.max_events),
+            ("max_steps", &mut settings.max_steps),
+        ] {
+            if let Some(item) = table.get(key) {
+                match item.get_ref() {
+                    DeValue::Integer(i) => match u64::from_str_radix(i.as_str(), i.radix()) {
+                        Ok(v) if v > 0 => *target = v,
+                        _ => {
+                            return Err(self.at(
+                                item.span().start,
+                                &format!("simulation.{key}"),
+                                format!("{key} must be a whole number > 0"),
+                                format!("write e.g. {key} = 100000"),
+                            ))
+                        }
+                    },
+                    other => {
+                        return Err(self.at(
+                            item.span().start,
+                            &format!("simulation.{key}"),
+                            format!("expected a whole number, found {}", kind(other)),
+                            format!("write e.g. {key} = 100000"),
+                        ))
+                    }
+                }
+            }
+        }
+        if let Some(item) = table.get("zeno") {
+            settings.zeno = self.zeno(item, constants)?;
+        }
+        if let Some(item) = table.get("method") {
+            settings.method = match self.string(item, "simulation.method")? {
+                "dop853" => Method::Dop853,
+                "dopri5" => Method::Dopri5,
+                other => {
+                    return Err(self.at(
+                        item.span().start,
+                        "simulation.method",
+                        format!("unknown method `{other}`"),
+                        "method is \"dop853\" (the default) or \"dopri5\"",
+                    ))
+                }
+            };
+        }
+        Ok(settings)
+    }
+
+    fn zeno(&self, item: &Item<'s>, constants: &Names<'_>) -> Result<ZenoStrategy, ModelError> {
+        let help =
+            "write zeno = \"auto\" (detect Zeno points and go on past them), zeno = \"off\" \
+                    (stop at them) or zeno = { epsilon = 1e-3 } (the paper's ε rule)";
+        match item.get_ref() {
+            DeValue::String(s) => match parse_zeno(s) {
+                Some(z) => Ok(z),
+                None => Err(self.at(
+                    item.span().start,
+                    "simulation.zeno",
+                    format!("unknown Zeno strategy `{s}`"),
+                    help,
+                )),
+            },
+            DeValue::Table(t) => {
+                self.known_keys(t, "simulation.zeno", &["epsilon"])?;
+                let Some(eps_item) = t.get("epsilon") else {
+                    return Err(self.missing(
+                        "simulation.zeno.epsilon",
+                        "the ε rule needs its threshold",
+                        help,
+                    ));
+                };
+                let formula = self.formula(eps_item, "simulation.zeno.epsilon")?;
+                let eps = self.constant(&formula, constants, "epsilon")?;
+                if eps > 0.0 {
+                    Ok(ZenoStrategy::Epsilon(eps))
+                } else {
+                    Err(self.at(
+                        eps_item.span().start,
+                        "simulation.zeno.epsilon",
+                        format!("epsilon is {eps}; it must be > 0"),
+                        "the paper uses epsilon = 1e-3",
+                    ))
+                }
+            }
+            other => Err(self.at(
+                item.span().start,
+                "simulation.zeno",
+                format!("expected a string or a table, found {}", kind(other)),
+                help,
+            )),
+        }
+    }
+
+    /// The checks at the initial state: admissible, and a positive definite mass matrix.
+    fn check_initial_state(
+        &self,
+        root: &Table<'s>,
+        model: &FileModel,
+        initial: &State,
+    ) -> Result<(), ModelError> {
+        let initial_at = |message: String, help: &str| match root.get("initial") {
+            Some(item) => self.at(item.span().start, "initial", message, help),
+            None => self.missing("initial", message, help),
+        };
+        let derived = Derived::new(model)
+            .map_err(|e| ModelError::file(self.file, e.to_string(), "check the coordinates"))?;
+        for (index, c) in model.constraints().iter().enumerate() {
+            let (h, _) = derived.constraint(index, &initial.q);
+            if h.is_nan() || h < 0.0 {
+                return Err(initial_at(
+                    format!(
+                        "the initial state violates constraint `{}`: h(q0) = {h:e}, but the admissible side is h >= 0",
+                        c.name
+                    ),
+                    "start on the admissible side: change [initial] (or --set) so that every h is >= 0",
+                ));
+            }
+        }
+        let (mass, positive) = derived.mass_matrix(&initial.q, &initial.q_dot);
+        if !positive {
+            let n = model.dimension();
+            let lagrangian = root.get("lagrangian").expect("checked");
+            let flat: Vec<&str> = (0..n)
+                .filter(|&i| mass[i * n + i] == 0.0)
+                .map(|i| model.coordinates[i].as_str())
+                .collect();
+            let detail = if flat.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; the Lagrangian has no kinetic term in {}",
+                    list(&flat.iter().map(|c| format!("{c}_dot")).collect::<Vec<_>>())
+                )
+            };
+            let rows: Vec<String> = mass.chunks(n).map(|r| format!("{r:?}")).collect();
+            return Err(self.at(
+                lagrangian.span().start,
+                "lagrangian",
+                format!(
+                    "the mass matrix ∂²L/∂q̇² is not positive definite at the initial state (M = [{}]){detail}",
+                    rows.join(", ")
+                ),
+                "every coordinate needs a kinetic term with a positive coefficient (e.g. 0.5*m*x_dot^2), and the initial state must avoid coordinate singularities such as sin(theta) = 0",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A `[[constraint]]`, compiled.
+struct ParsedConstraint {
+    name: String,
+    h: Expression,
+    restitution: f64,
+    reset: Vec<(usize, Expression)>,
+}
+
+/// `"auto"`, `"off"` or a number (the ε rule), as the command line writes a Zeno strategy.
+pub fn parse_zeno(text: &str) -> Option<ZenoStrategy> {
+    match text {
+        "auto" => Some(ZenoStrategy::Auto),
+        "off" => Some(ZenoStrategy::Off),
+        _ => text
+            .parse::<f64>()
+            .ok()
+            .filter(|e| *e > 0.0 && e.is_finite())
+            .map(ZenoStrategy::Epsilon),
+    }
+}
+
+fn override_formula(o: &Override) -> Formula {
+    Formula {
+        key: format!("--set {o}"),
+        origin: Origin::Override(o.to_string()),
+        body: match o.value.parse::<f64>() {
+            Ok(v) => Body::Number(v),
+            Err(_) => Body::Text(o.value.clone()),
+        },
+    }
+}
+
+/// What an expression error means here, and what to do.
+fn describe(error: &ExprError, names: &Names<'_>, what: &str) -> (String, String) {
+    let ExprError::UnknownName { name, .. } = error else {
+        return (
+            format!("in {what}: {error}"),
+            "fix the formula; the language is described in zenosim-model's expr module".to_string(),
+        );
+    };
+    let is = |list: &[String]| list.iter().any(|c| c == name);
+    let parameter = names.parameters.iter().any(|(p, _)| p == name);
+    let (message, help) = if name == "t" {
+        (
+            format!("{what} uses the time `t`"),
+            "zenosim simulates autonomous hybrid Lagrangians (Ames et al., Definition 1): L and h \
+             depend on q and q_dot only; remove t"
+                .to_string(),
+        )
+    } else if is(names.coordinates) && names.reads.rank() < Reads::Coordinates.rank() {
+        (
+            format!("{what} uses the coordinate `{name}`"),
+            "this value is a constant, fixed before the run: use numbers and parameters only"
+                .to_string(),
+        )
+    } else if is(names.velocities) && names.reads.rank() < Reads::State.rank() {
+        let help = if names.reads == Reads::Coordinates {
+            "a constraint h(q) depends on the coordinates only, not on velocities".to_string()
+        } else {
+            "this value is a constant, fixed before the run: use numbers and parameters only"
+                .to_string()
+        };
+        (format!("{what} uses the velocity `{name}`"), help)
+    } else if parameter && names.reads == Reads::ParameterSlots {
+        unreachable!("parameters resolve among parameters")
+    } else {
+        let mut known: Vec<&str> = Vec::new();
+        if names.reads.rank() >= Reads::Coordinates.rank() {
+            known.extend(names.coordinates.iter().map(String::as_str));
+        }
+        if names.reads == Reads::State {
+            known.extend(names.velocities.iter().map(String::as_str));
+        }
+        known.extend(names.parameters.iter().map(|(p, _)| p.as_str()));
+        let hint = match suggest(name, known.iter().copied().chain(["pi"])) {
+            Some(s) => format!("did you mean `{s}`? "),
+            None => String::new(),
+        };
+        let available = if known.is_empty() {
+            "no names are defined here except pi".to_string()
+        } else {
+            format!("the names here are {} and pi", list(&known))
+        };
+        (
+            format!("unknown name `{name}` in {what}"),
+            format!("{hint}{available}; define new constants under [parameters]"),
+        )
+    };
+    (message, help)
+}
+
+impl Reads {
+    fn rank(self) -> u8 {
+        match self {
+            Reads::ParameterSlots | Reads::Constants => 0,
+            Reads::Coordinates => 1,
+            Reads::State => 2,
+        }
+    }
+}
+
+/// The byte offset of the 1-based `(line, column)` (column in characters) in `text`.
+fn offset_in(text: &str, (line, column): (usize, usize)) -> usize {
+    let line_start: usize = text
+        .split_inclusive('\n')
+        .take(line.saturating_sub(1))
+        .map(str::len)
+        .sum();
+    let rest = &text[line_start.min(text.len())..];
+    line_start
+        + rest
+            .char_indices()
+            .nth(column.saturating_sub(1))
+            .map_or(rest.len(), |(i, _)| i)
+}
+
+fn not_finite_help(value: f64) -> String {
+    if value.is_nan() {
+        "the result is not a number (NaN): look for 0/0, sqrt or ln of a negative number, or \
+         asin/acos outside [-1, 1]"
+            .to_string()
+    } else {
+        "the result is infinite: look for a division by zero or an overflow".to_string()
+    }
+}
+
+fn join(prefix: &str, key: &str) -> String {
+    if prefix.is_empty() {
+        key.to_string()
+    } else {
+        format!("{prefix}.{key}")
+    }
+}
+
+fn last(key: &str) -> &str {
+    key.rsplit('.').next().unwrap_or(key)
+}
+
+fn list<S: AsRef<str>>(items: &[S]) -> String {
+    items
+        .iter()
+        .map(|s| format!("`{}`", s.as_ref()))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn kind(value: &DeValue<'_>) -> &'static str {
+    match value {
+        DeValue::String(_) => "a string",
+        DeValue::Integer(_) => "an integer",
+        DeValue::Float(_) => "a number",
+        DeValue::Boolean(_) => "a boolean",
+        DeValue::Datetime(_) => "a date",
+        DeValue::Array(_) => "a list",
+        DeValue::Table(_) => "a table",
+    }
+}

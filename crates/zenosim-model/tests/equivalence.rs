@@ -1,0 +1,243 @@
+//! A model file and the same system written in Rust give the same execution: the shipped model
+//! files against the engine's Rust models of the paper's examples (impact times to 1e-12).
+
+use std::path::PathBuf;
+
+use zenosim::models::{BallOnSine, BouncingBall, CartPendulum, Example, SphericalPendulum};
+use zenosim::{
+    Completion, EventKind, Execution, HybridLagrangian, Outcome, Simulation, SimulationOptions,
+};
+use zenosim_model::{parse_model, ModelFile};
+
+/// The repository's `models/` folder.
+fn models_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../models")
+}
+
+fn load(name: &str) -> ModelFile {
+    let path = models_dir().join(name);
+    let source = std::fs::read_to_string(&path).unwrap();
+    parse_model(name, &source, &[]).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn run<L: HybridLagrangian>(
+    model: &L,
+    q0: &[f64],
+    q_dot0: &[f64],
+    options: SimulationOptions,
+) -> Execution {
+    Simulation::new(model, q0, q_dot0, options)
+        .unwrap()
+        .run(&mut ())
+}
+
+/// Runs the file and the Rust example with the file's options and compares the executions.
+fn same_execution<M: HybridLagrangian>(file: &str, rust: Example<M>, completion: Completion) {
+    let file = load(file);
+    let options = SimulationOptions {
+        completion,
+        ..file.options()
+    };
+    assert_eq!(
+        options.completion,
+        file.options().completion,
+        "the file's own R∞ setting"
+    );
+    assert_eq!(options.t_end, rust.t_end);
+    // The same initial state, up to rounding: `pi/3` in the file is `π/3` rounded twice
+    // (1.0471975511965976) while Rust's FRAC_PI_3 is rounded once (…979). Both runs start from
+    // the file's state, so that they differ in the model's functions only.
+    let gap = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max)
+    };
+    assert!(
+        gap(&file.initial.q, &rust.q0) <= 4.0 * f64::EPSILON,
+        "{:?}",
+        file.initial.q
+    );
+    assert_eq!(file.initial.q_dot, rust.q_dot0);
+
+    let from_file = run(&file.model, &file.initial.q, &file.initial.q_dot, options);
+    let from_rust = run(&rust.model, &file.initial.q, &file.initial.q_dot, options);
+    assert_eq!(from_file.outcome, Outcome::Finished);
+    assert_eq!(from_rust.outcome, Outcome::Finished);
+
+    // The same events, at the same times.
+    let kinds = |x: &Execution| x.events.iter().map(|e| e.kind).collect::<Vec<_>>();
+    assert_eq!(kinds(&from_file), kinds(&from_rust), "{}", file.name);
+    let mut worst: f64 = 0.0;
+    for (a, b) in from_file.events.iter().zip(&from_rust.events) {
+        worst = worst.max((a.t - b.t).abs());
+    }
+    let impacts = from_file
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Impact)
+        .count();
+    assert!(impacts > 10, "{}: {impacts} impacts", file.name);
+    assert!(
+        worst <= 1e-12,
+        "{}: event times differ by up to {worst:e}",
+        file.name
+    );
+    assert_eq!(from_file.zeno.len(), from_rust.zeno.len());
+    for (a, b) in from_file.zeno.iter().zip(&from_rust.zeno) {
+        assert_eq!(a.kind, b.kind);
+        assert!(
+            (a.t_zeno - b.t_zeno).abs() <= 1e-12,
+            "τ∞ {} vs {}",
+            a.t_zeno,
+            b.t_zeno
+        );
+    }
+    // And the same state at the stop time.
+    let state_gap = from_file
+        .final_state
+        .q
+        .iter()
+        .chain(&from_file.final_state.q_dot)
+        .zip(
+            from_rust
+                .final_state
+                .q
+                .iter()
+                .chain(&from_rust.final_state.q_dot),
+        )
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        state_gap <= 1e-9,
+        "{}: final states differ by {state_gap:e}",
+        file.name
+    );
+    println!(
+        "{}: {} events, {impacts} impacts, event times differ by at most {worst:e}, final state by {state_gap:e}",
+        file.name,
+        from_file.events.len()
+    );
+}
+
+#[test]
+fn the_papers_ball() {
+    same_execution(
+        "ball-on-sine.toml",
+        BallOnSine::paper(),
+        Completion::Projection,
+    );
+}
+
+#[test]
+fn the_demo_ball_with_the_papers_map() {
+    // The file gives the paper's R∞ as its zeno_reset; the Rust model has it built in.
+    same_execution(
+        "ball-on-sine-demo.toml",
+        BallOnSine::demo(),
+        Completion::ModelMap,
+    );
+}
+
+#[test]
+fn the_cart_pendulum() {
+    same_execution(
+        "cart-pendulum.toml",
+        CartPendulum::demo(),
+        Completion::Projection,
+    );
+}
+
+#[test]
+fn the_spherical_pendulum() {
+    same_execution(
+        "spherical-pendulum.toml",
+        SphericalPendulum::demo(),
+        Completion::Projection,
+    );
+}
+
+#[test]
+fn the_bouncing_ball() {
+    let rust = Example {
+        model: BouncingBall::new(1.0, 9.81, 0.5),
+        q0: vec![1.0],
+        q_dot0: vec![0.0],
+        t_end: 3.0,
+    };
+    let tau = rust.model.zeno_time(1.0);
+    same_execution("bouncing-ball.toml", rust, Completion::Projection);
+    // The file's header comment gives the Zeno time; check it against the closed form.
+    let text = std::fs::read_to_string(models_dir().join("bouncing-ball.toml")).unwrap();
+    assert!(
+        text.contains(&format!("{tau:.7}")),
+        "closed form τ∞ = {tau}"
+    );
+}
+
+#[test]
+fn every_shipped_model_loads_and_runs_to_its_stop_time() {
+    let mut names: Vec<_> = std::fs::read_dir(models_dir())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 6, "{names:?}");
+    for name in names {
+        let file = load(&name);
+        assert_eq!(
+            format!("{}.toml", file.name),
+            name,
+            "a model's name is its file's"
+        );
+        let run = run(
+            &file.model,
+            &file.initial.q,
+            &file.initial.q_dot,
+            file.options(),
+        );
+        assert_eq!(run.outcome, Outcome::Finished, "{name}");
+        assert_eq!(run.t_final, file.settings.t_end, "{name}");
+        assert!(!run.zeno.is_empty(), "{name} reaches a Zeno point");
+    }
+}
+
+#[test]
+fn the_lift_off_model_lifts_off_and_lands() {
+    let file = load("ball-off-cylinder.toml");
+    let run = run(
+        &file.model,
+        &file.initial.q,
+        &file.initial.q_dot,
+        file.options(),
+    );
+    assert_eq!(run.outcome, Outcome::Finished);
+    // Bounces to rest on the cylinder, slides off, bounces to rest on the floor.
+    let liftoffs: Vec<_> = run
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Liftoff)
+        .collect();
+    assert_eq!(
+        liftoffs.len(),
+        1,
+        "{:?}",
+        run.events.iter().map(|e| (e.kind, e.t)).collect::<Vec<_>>()
+    );
+    assert_eq!(run.zeno.len(), 2);
+    assert_eq!((run.zeno[0].constraint, run.zeno[1].constraint), (0, 1));
+    let liftoff = liftoffs[0];
+    assert!(run.zeno[0].t_switch < liftoff.t && liftoff.t < run.zeno[1].t_switch);
+    // It lets go where the normal force vanishes: v² = g R cos θ (from m v²/R = m g cos θ).
+    let (q, v) = (&liftoff.after.q, &liftoff.after.q_dot);
+    let radius = (q[0] * q[0] + q[1] * q[1]).sqrt();
+    let cos_theta = q[1] / radius;
+    let speed2 = v[0] * v[0] + v[1] * v[1];
+    assert!(
+        (speed2 - 9.81 * radius * cos_theta).abs() < 1e-7,
+        "{speed2} vs {}",
+        9.81 * radius * cos_theta
+    );
+    assert!(cos_theta > 0.5 && cos_theta < 0.7, "cos θ = {cos_theta}");
+}

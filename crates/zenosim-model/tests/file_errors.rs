@@ -1,0 +1,488 @@
+//! Every way a model file can be refused: each message names the file and the line and column
+//! (syntax and formulas) or the key (meaning), and says what to do.
+
+use zenosim_model::{parse_model, Location, ModelError, Override};
+
+/// A valid model; the cases below break one thing in it.
+const GOOD: &str = r#"name = "ball"
+coordinates = ["x", "y"]
+lagrangian = "0.5*m*(x_dot^2 + y_dot^2) - m*g*y"
+
+[parameters]
+m = 1.0
+g = 9.81
+e = 0.5
+
+[[constraint]]
+name = "floor"
+h = "y"
+restitution = "e"
+
+[initial]
+y = 1.0
+x_dot = 0.5
+
+[simulation]
+t_end = 2.0
+"#;
+
+fn load(source: &str) -> Result<zenosim_model::ModelFile, ModelError> {
+    parse_model("case.toml", source, &[])
+}
+
+fn error(source: &str) -> ModelError {
+    match load(source) {
+        Ok(_) => panic!("accepted:\n{source}"),
+        Err(e) => e,
+    }
+}
+
+/// `GOOD` with `from` replaced by `to` (which must occur).
+fn with(from: &str, to: &str) -> String {
+    assert!(GOOD.contains(from), "{from:?} is not in the model");
+    GOOD.replacen(from, to, 1)
+}
+
+/// The error names the file, says `fragment`, and gives help.
+fn says(e: &ModelError, fragment: &str) {
+    let text = e.to_string();
+    assert!(text.starts_with("case.toml:"), "no file name: {text}");
+    assert!(text.contains(fragment), "expected {fragment:?} in:\n{text}");
+    assert!(text.contains("= help: "), "no help in:\n{text}");
+}
+
+/// The error points at `(line, column)`, under `key` when given.
+fn at(e: &ModelError, line: usize, column: usize, key: Option<&str>) {
+    assert_eq!(e.position(), Some((line, column)), "{e}");
+    assert_eq!(e.key(), key, "{e}");
+    let text = e.to_string();
+    assert!(
+        text.starts_with(&format!("case.toml:{line}:{column}: ")),
+        "{text}"
+    );
+    // The offending line is shown with a caret.
+    assert!(text.contains(&format!("\n{line} | ")), "{text}");
+}
+
+fn missing(e: &ModelError, key: &str) {
+    assert_eq!(e.location, Location::Missing(key.to_string()), "{e}");
+    assert!(
+        e.to_string().contains(&format!("missing key `{key}`")),
+        "{e}"
+    );
+}
+
+#[test]
+fn the_good_model_loads() {
+    let file = load(GOOD).unwrap();
+    assert_eq!(file.name, "ball");
+    assert_eq!(file.initial.q, [0.0, 1.0]);
+    assert_eq!(file.initial.q_dot, [0.5, 0.0]);
+    assert_eq!(file.settings.t_end, 2.0);
+    assert_eq!(
+        file.parameters,
+        [("m".into(), 1.0), ("g".into(), 9.81), ("e".into(), 0.5)]
+    );
+}
+
+#[test]
+fn toml_syntax_errors_point_at_the_place() {
+    let e = error(&with("name = \"ball\"", "name = \"ball"));
+    says(&e, "invalid TOML");
+    assert_eq!(e.position().map(|p| p.0), Some(1), "{e}");
+    let e = error(&with("g = 9.81", "g = = 9.81"));
+    says(&e, "invalid TOML");
+    assert_eq!(e.position().map(|p| p.0), Some(7), "{e}");
+    // A key given twice is a TOML error.
+    let e = error(&with("g = 9.81", "g = 9.81\ng = 9.8"));
+    says(&e, "invalid TOML");
+    assert_eq!(e.position().map(|p| p.0), Some(8), "{e}");
+}
+
+#[test]
+fn missing_required_keys_are_named() {
+    let e = error(&with("name = \"ball\"\n", ""));
+    missing(&e, "name");
+    says(&e, "add name = ");
+    let e = error(&with("coordinates = [\"x\", \"y\"]\n", ""));
+    missing(&e, "coordinates");
+    let e = error(&with(
+        "lagrangian = \"0.5*m*(x_dot^2 + y_dot^2) - m*g*y\"\n",
+        "",
+    ));
+    missing(&e, "lagrangian");
+    says(&e, "add lagrangian = ");
+    let e = error(&GOOD.replace(
+        "[[constraint]]\nname = \"floor\"\nh = \"y\"\nrestitution = \"e\"\n",
+        "",
+    ));
+    missing(&e, "constraint");
+    let e = error(&with("h = \"y\"\n", ""));
+    missing(&e, "constraint[1].h");
+    let e = error(&with("restitution = \"e\"\n", ""));
+    missing(&e, "constraint[1].restitution");
+    let e = error(&with("name = \"floor\"\n", ""));
+    missing(&e, "constraint[1].name");
+}
+
+#[test]
+fn wrong_types_name_the_key() {
+    let e = error(&with("coordinates = [\"x\", \"y\"]", "coordinates = \"x\""));
+    says(&e, "expected a list of names, found a string");
+    at(&e, 2, 15, Some("coordinates"));
+    let e = error(&with(
+        "coordinates = [\"x\", \"y\"]",
+        "coordinates = [\"x\", 2]",
+    ));
+    says(&e, "expected a string");
+    at(&e, 2, 21, Some("coordinates[1]"));
+    let e = error(&with("restitution = \"e\"", "restitution = true"));
+    says(
+        &e,
+        "expected a number or a formula in quotes, found a boolean",
+    );
+    at(&e, 13, 15, Some("constraint[1].restitution"));
+    let e = error(
+        &GOOD
+            .replace("[parameters]\nm = 1.0\ng = 9.81\ne = 0.5\n", "")
+            .replace("name = \"ball\"\n", "name = \"ball\"\nparameters = 3\n"),
+    );
+    says(&e, "expected a table, found an integer");
+    at(&e, 2, 14, Some("parameters"));
+    let e = error(&with("t_end = 2.0", "t_end = [2.0]"));
+    says(&e, "found a list");
+}
+
+#[test]
+fn unknown_keys_are_refused_with_a_suggestion() {
+    let e = error(&GOOD.replace("[[constraint]]", "[[constraints]]"));
+    says(&e, "unknown key `constraints`");
+    says(&e, "did you mean `constraint`?");
+    at(&e, 10, 3, Some("constraints"));
+    let e = error(&with(
+        "restitution = \"e\"",
+        "restitution = \"e\"\nrestitutoin = 0.5",
+    ));
+    says(&e, "did you mean `restitution`?");
+    assert_eq!(e.key(), Some("constraint[1].restitutoin"));
+    let e = error(&with("t_end = 2.0", "tend = 2.0"));
+    says(&e, "did you mean `t_end`?");
+    let e = error(&with("x_dot = 0.5", "z_dot = 0.5"));
+    says(&e, "`z_dot` is not a coordinate or a velocity");
+    assert_eq!(e.key(), Some("initial.z_dot"));
+}
+
+#[test]
+fn unknown_names_point_at_the_column_in_the_formula() {
+    let e = error(&with("0.5*m*(", "0.5*mm*("));
+    says(&e, "unknown name `mm` in the Lagrangian");
+    says(&e, "did you mean `m`?");
+    // `lagrangian = "` is 14 characters: the formula's column 5 is the file's column 19.
+    at(&e, 3, 19, Some("lagrangian"));
+    let e = error(&with("0.5*m*(", "0.5*mass*("));
+    says(
+        &e,
+        "the names here are `x`, `y`, `x_dot`, `y_dot`, `m`, `g`, `e` and pi",
+    );
+    let e = error(&with("h = \"y\"", "h = \"y - bump\""));
+    says(&e, "unknown name `bump` in h of constraint `floor`");
+    at(&e, 12, 10, Some("constraint[1].h"));
+}
+
+#[test]
+fn names_used_where_they_do_not_belong() {
+    let e = error(&with("h = \"y\"", "h = \"y + y_dot\""));
+    says(&e, "uses the velocity `y_dot`");
+    says(&e, "depends on the coordinates only");
+    let e = error(&with("e = 0.5", "e = \"0.5 + x\""));
+    says(&e, "parameter `e` uses the coordinate `x`");
+    let e = error(&with("- m*g*y\"", "- m*g*y*t\""));
+    says(&e, "the Lagrangian uses the time `t`");
+    says(&e, "autonomous");
+    let e = error(&with("y = 1.0", "y = \"y_dot\""));
+    says(&e, "uses the velocity `y_dot`");
+}
+
+#[test]
+fn names_defined_twice() {
+    let e = error(&with("[\"x\", \"y\"]", "[\"x\", \"x\"]"));
+    says(&e, "coordinate `x` is defined twice");
+    at(&e, 2, 21, Some("coordinates[1]"));
+    let e = error(&with("[\"x\", \"y\"]", "[\"x\", \"x_dot\"]"));
+    says(&e, "clashes with the velocity name of `x`");
+    let e = error(&with("g = 9.81", "g = 9.81\ny = 2.0"));
+    says(&e, "`y` is defined twice");
+    assert_eq!(e.key(), Some("parameters.y"));
+    let e = error(&with("g = 9.81", "g = 9.81\nx_dot = 2.0"));
+    says(&e, "`x_dot` is defined twice");
+    let e = error(&format!(
+        "{GOOD}\n[[constraint]]\nname = \"floor\"\nh = \"x\"\nrestitution = 0.1\n"
+    ));
+    says(&e, "constraint `floor` is defined twice");
+    assert_eq!(e.key(), Some("constraint[2].name"));
+    let e = error(&with("[\"x\", \"y\"]", "[\"x\", \"sin\"]"));
+    says(&e, "`sin` is a built-in function or constant");
+    let e = error(&with("[\"x\", \"y\"]", "[\"x\", \"t\"]"));
+    says(&e, "`t` is the time");
+    let e = error(&with("[\"x\", \"y\"]", "[\"x\", \"2y\"]"));
+    says(&e, "`2y` cannot name a coordinate");
+    let e = error(&with("name = \"floor\"", "name = \"the floor\""));
+    says(&e, "cannot name a constraint");
+}
+
+#[test]
+fn cyclic_parameters_show_the_cycle() {
+    let e = error(&with("g = 9.81", "g = \"k*2\"\nk = \"w + 1\"\nw = \"g\""));
+    says(&e, "depends on itself: g → k → w → g");
+    assert_eq!(e.key(), Some("parameters.g"));
+    let e = error(&with("g = 9.81", "g = \"g\""));
+    says(&e, "parameter `g` depends on itself: g → g");
+    // Any order is fine without a cycle.
+    let file = load(&with("g = 9.81", "g = \"2*k\"\nk = 4.905")).unwrap();
+    assert_eq!(file.parameters[1], ("g".to_string(), 9.81));
+}
+
+#[test]
+fn formula_syntax_errors_point_at_the_column() {
+    let e = error(&with("h = \"y\"", "h = \"y +\""));
+    says(
+        &e,
+        "in h of constraint `floor`: the expression ends after '+'",
+    );
+    at(&e, 12, 8, Some("constraint[1].h"));
+    let e = error(&with("h = \"y\"", "h = \"(y\""));
+    says(&e, "never closed");
+    at(&e, 12, 6, Some("constraint[1].h"));
+    let e = error(&with("h = \"y\"", "h = \"y # floor\""));
+    says(&e, "unexpected character '#'");
+    at(&e, 12, 8, Some("constraint[1].h"));
+    let e = error(&with("h = \"y\"", "h = \"\""));
+    says(&e, "the expression is empty");
+}
+
+#[test]
+fn positions_in_multi_line_formulas_and_escaped_strings() {
+    let source = with(
+        "lagrangian = \"0.5*m*(x_dot^2 + y_dot^2) - m*g*y\"",
+        "lagrangian = \"\"\"\n  0.5*m*(x_dot^2 + y_dot^2)\n  - m*g*yy\n\"\"\"",
+    );
+    let e = error(&source);
+    says(&e, "unknown name `yy`");
+    at(&e, 5, 9, Some("lagrangian"));
+    // With an escape the text differs from the file: the error points at the string.
+    let e = error(&with("h = \"y\"", "h = \"y\\t+ q\""));
+    says(&e, "unknown name `q`");
+    at(&e, 12, 5, Some("constraint[1].h"));
+}
+
+#[test]
+fn unknown_functions_and_wrong_arity() {
+    let e = error(&with("h = \"y\"", "h = \"y - sine(x)\""));
+    says(&e, "unknown function 'sine'");
+    says(&e, "did you mean 'sin'?");
+    at(&e, 12, 10, Some("constraint[1].h"));
+    let e = error(&with("h = \"y\"", "h = \"atan2(y)\""));
+    says(&e, "'atan2' takes 2 arguments but is given 1");
+    at(&e, 12, 6, Some("constraint[1].h"));
+}
+
+#[test]
+fn parameters_that_are_not_numbers() {
+    let e = error(&with("g = 9.81", "g = \"1/(m - 1)\""));
+    says(&e, "parameter `g` evaluates to inf");
+    says(&e, "division by zero");
+    assert_eq!(e.key(), Some("parameters.g"));
+    let e = error(&with("g = 9.81", "g = \"sqrt(-m)\""));
+    says(&e, "evaluates to NaN");
+    says(&e, "not a number");
+    let e = error(&with("g = 9.81", "g = nan"));
+    says(&e, "is NaN");
+    let e = error(&with("y = 1.0", "y = \"ln(0)\""));
+    says(&e, "the initial value of `y` evaluates to -inf");
+    assert_eq!(e.key(), Some("initial.y"));
+}
+
+#[test]
+fn restitution_outside_the_unit_interval() {
+    for bad in ["1.5", "-0.1", "\"e + 1\""] {
+        let e = error(&with(
+            "restitution = \"e\"",
+            &format!("restitution = {bad}"),
+        ));
+        says(&e, "outside [0, 1]");
+        at(&e, 13, 15, Some("constraint[1].restitution"));
+    }
+    for good in ["0", "1", "0.0", "\"e*2\""] {
+        load(&with(
+            "restitution = \"e\"",
+            &format!("restitution = {good}"),
+        ))
+        .unwrap();
+    }
+}
+
+#[test]
+fn an_inadmissible_initial_state() {
+    let e = error(&with("y = 1.0", "y = -0.25"));
+    says(&e, "violates constraint `floor`: h(q0) = -2.5e-1");
+    says(&e, "start on the admissible side");
+    at(&e, 15, 1, Some("initial"));
+    // Without [initial] the state is 0, on the floor: admissible.
+    load(&GOOD.replace("[initial]\ny = 1.0\nx_dot = 0.5\n", "")).unwrap();
+    let e = error(&GOOD.replace("[initial]\ny = 1.0\nx_dot = 0.5\n", "[initial]\ny = -1.0\n"));
+    says(&e, "violates");
+    let e = error(
+        &GOOD
+            .replace("[initial]\ny = 1.0\nx_dot = 0.5\n", "")
+            .replace("h = \"y\"", "h = \"y - 1\""),
+    );
+    missing(&e, "initial");
+}
+
+#[test]
+fn a_singular_mass_matrix_names_the_coordinate() {
+    let e = error(&with("(x_dot^2 + y_dot^2)", "(y_dot^2)"));
+    says(&e, "not positive definite");
+    says(&e, "no kinetic term in `x_dot`");
+    at(&e, 3, 14, Some("lagrangian"));
+    // A negative kinetic term.
+    let e = error(&with("(x_dot^2 + y_dot^2)", "(x_dot^2 - y_dot^2)"));
+    says(&e, "not positive definite");
+}
+
+#[test]
+fn a_constraint_that_does_not_depend_on_q() {
+    for h in ["h = 1", "h = \"m + 1\"", "h = \"e\""] {
+        let e = error(&with("h = \"y\"", h));
+        says(&e, "does not depend on any coordinate");
+        at(&e, 12, 5, Some("constraint[1].h"));
+    }
+}
+
+#[test]
+fn bad_simulation_settings() {
+    for (line, fragment) in [
+        ("t_end = 0", "t_end is 0; it must be > 0"),
+        ("t_end = -1.0", "t_end is -1"),
+        ("t_end = inf", "is inf"),
+        ("rtol = -1e-8", "rtol is -0.00000001"),
+        ("atol = 0.0", "atol is 0"),
+        ("rtol = 1e-20", "below what f64 resolves"),
+        ("zeno = \"sometimes\"", "unknown Zeno strategy `sometimes`"),
+        ("zeno = { epsilon = -1 }", "epsilon is -1"),
+        ("zeno = { eps = 1e-3 }", "did you mean `epsilon`?"),
+        ("zeno = 3", "expected a string or a table"),
+        ("method = \"euler\"", "unknown method `euler`"),
+        ("max_events = 0", "max_events must be a whole number > 0"),
+        ("max_steps = 1.5", "expected a whole number"),
+        ("dt = -0.1", "dt is -0.1"),
+    ] {
+        let e = error(&with("t_end = 2.0", line));
+        says(&e, fragment);
+        assert!(e.key().unwrap().starts_with("simulation."), "{e}");
+        assert_eq!(e.position().map(|p| p.0), Some(20), "{e}");
+    }
+}
+
+#[test]
+fn good_settings_are_read() {
+    let file = load(&with(
+        "t_end = 2.0",
+        "t_end = \"2*pi\"\nrtol = 1e-8\natol = 1e-9\nzeno = { epsilon = 1e-3 }\nmethod = \"dopri5\"\ndt = 0.01\nmax_events = 500\nmax_steps = 1_000",
+    ))
+    .unwrap();
+    let s = file.settings;
+    assert_eq!(s.t_end, 2.0 * std::f64::consts::PI);
+    assert_eq!((s.tolerances.rtol, s.tolerances.atol), (1e-8, 1e-9));
+    assert_eq!(s.zeno, zenosim::ZenoStrategy::Epsilon(1e-3));
+    assert_eq!(s.method, zenosim::Method::Dopri5);
+    assert_eq!(s.dt, Some(0.01));
+    assert_eq!((s.max_events, s.max_steps), (500, 1000));
+    let options = file.options();
+    assert_eq!(options.output, zenosim::OutputGrid::Uniform(0.01));
+    assert_eq!(options.completion, zenosim::Completion::Projection);
+}
+
+#[test]
+fn overrides() {
+    let set = |args: &[&str]| -> Result<zenosim_model::ModelFile, ModelError> {
+        let overrides: Vec<Override> = args.iter().map(|a| a.parse().unwrap()).collect();
+        parse_model("case.toml", GOOD, &overrides)
+    };
+    // A parameter, and what depends on it follows.
+    let file = set(&["e=0.8", "m=2"]).unwrap();
+    assert_eq!(file.model_restitution(), 0.8);
+    // An initial value, by a formula of the parameters.
+    let file = set(&["x=g/2", "y_dot=-1"]).unwrap();
+    assert_eq!(file.initial.q, [9.81 / 2.0, 1.0]);
+    assert_eq!(file.initial.q_dot, [0.5, -1.0]);
+    // Errors name the override.
+    let e = set(&["ee=2"]).unwrap_err();
+    assert_eq!(e.location, Location::Override("ee=2".into()));
+    let text = e.to_string();
+    assert!(text.starts_with("case.toml: --set ee=2: "), "{text}");
+    assert!(text.contains("did you mean `e`?"), "{text}");
+    let e = set(&["e=1.5"]).unwrap_err();
+    assert!(e.to_string().contains("outside [0, 1]"), "{e}");
+    // The value is refused where it is used.
+    assert_eq!(e.key(), Some("constraint[1].restitution"));
+    let e = set(&["y=-1"]).unwrap_err();
+    assert!(e.to_string().contains("violates"), "{e}");
+    let e = set(&["g=1/(m-1)"]).unwrap_err();
+    assert!(e.to_string().contains("evaluates to inf"), "{e}");
+    let e = set(&["g=2*"]).unwrap_err();
+    assert!(e.to_string().contains("the expression ends"), "{e}");
+    assert!("m".parse::<Override>().unwrap_err().contains("NAME=VALUE"));
+    assert!("=2".parse::<Override>().is_err());
+}
+
+#[test]
+fn hostile_input_fails_fast_without_overflowing_the_stack() {
+    // 100 000 nested parentheses in a formula: longer than a formula may be.
+    let deep = format!("{}y{}", "(".repeat(100_000), ")".repeat(100_000));
+    let e = error(&with("h = \"y\"", &format!("h = \"{deep}\"")));
+    says(&e, "characters long, more than the limit of 100000");
+    assert_eq!(e.key(), Some("constraint[1].h"));
+    // 40 000 nested parentheses: short enough, but too deep.
+    let deep = format!("{}y{}", "(".repeat(40_000), ")".repeat(40_000));
+    let e = error(&with("h = \"y\"", &format!("h = \"{deep}\"")));
+    says(&e, "nests more than 256 levels");
+    at(&e, 12, 5 + 257, Some("constraint[1].h"));
+    // Deeply nested TOML arrays.
+    let e = error(&with(
+        "[parameters]",
+        &format!(
+            "junk = {}{}\n[parameters]",
+            "[".repeat(100_000),
+            "]".repeat(100_000)
+        ),
+    ));
+    says(&e, "invalid TOML");
+    // A formula longer than the limit.
+    let long = vec!["y"; 60_000].join("+");
+    let e = error(&with("h = \"y\"", &format!("h = \"{long}\"")));
+    says(&e, "characters long, more than the limit");
+}
+
+trait Restitution {
+    fn model_restitution(&self) -> f64;
+}
+
+impl Restitution for zenosim_model::ModelFile {
+    fn model_restitution(&self) -> f64 {
+        use zenosim::HybridLagrangian;
+        self.model.constraints()[0].restitution
+    }
+}
+
+#[test]
+fn names_that_would_repeat_a_column_of_the_trajectory() {
+    let e = error(&with("[\"x\", \"y\"]", "[\"x\", \"energy\"]"));
+    says(&e, "it is a column of trajectory.csv");
+    let e = error(
+        &with("[\"x\", \"y\"]", "[\"h_floor\", \"y\"]")
+            .replace("x_dot", "h_floor_dot")
+            .replace("x = 0", ""),
+    );
+    says(&e, "has the name of constraint `floor`'s column");
+}
