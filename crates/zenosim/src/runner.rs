@@ -408,8 +408,8 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 .impact(index, e, q, q_dot)
                 .map_err(|err| self.fail_dynamics(err, t, &before))?;
         }
-        self.impacts += 1;
         self.record_event(EventKind::Impact, index, t, &before, &after, Mode::Free)?;
+        self.impacts += 1;
         self.sequence.record(index, t);
         let (q, q_dot) = after.split_at(self.n);
         let post = self.normal(index, t, q, q_dot)?;

@@ -674,6 +674,8 @@ fn the_event_limit_stops_the_run_after_exactly_that_many_events() {
         other => panic!("{other:?}"),
     }
     assert_eq!(run.events.len(), 5);
+    // The refused impact is not counted.
+    assert_eq!(run.stats.impacts, 5);
     for (k, ev) in run.events.iter().enumerate() {
         assert_eq!(ev.kind, EventKind::Impact);
         assert!((ev.t - ball.impact_time(1.0, k as u32 + 1)).abs() < 1e-9);
