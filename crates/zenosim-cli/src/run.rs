@@ -215,13 +215,22 @@ fn report(
     );
     let _ = writeln!(
         text,
-        "  work:    {} impacts, {} steps ({} rejected)",
-        run.stats.impacts, run.stats.steps, run.stats.rejected_steps
+        "  work:    {}, {} ({} rejected)",
+        plural(run.stats.impacts as usize, "impact"),
+        plural(run.stats.steps as usize, "step"),
+        run.stats.rejected_steps
     );
-    for z in &run.zeno {
+    let stalled = matches!(run.outcome, Outcome::ZenoStalled { .. });
+    for (i, z) in run.zeno.iter().enumerate() {
+        // With --zeno off the last Zeno point is where the run stopped, not a switch.
+        let verb = if stalled && i + 1 == run.zeno.len() {
+            "stopped"
+        } else {
+            "switched"
+        };
         let _ = writeln!(
             text,
-            "  zeno:    {} on '{}' after {}: τ∞ ≈ {}, switched at t = {}",
+            "  zeno:    {} on '{}' after {}: τ∞ ≈ {}, {verb} at t = {}",
             z.kind.name(),
             name(z.constraint),
             plural(z.impacts, "impact"),

@@ -1036,6 +1036,14 @@ impl<'s> Cx<'s> {
                 let name = key.get_ref().as_ref();
                 let path = format!("initial.{name}");
                 let Some(index) = slot(name) else {
+                    if constants.parameters.iter().any(|(p, _)| p == name) {
+                        return Err(self.at(
+                            key.span().start,
+                            &path,
+                            format!("`{name}` is a parameter, not a coordinate or a velocity"),
+                            "set parameters under [parameters]; [initial] sets coordinates and velocities",
+                        ));
+                    }
                     let known: Vec<&str> = coordinates
                         .iter()
                         .chain(velocities)
@@ -1241,8 +1249,20 @@ impl<'s> Cx<'s> {
         let derived = Derived::new(model)
             .map_err(|e| ModelError::file(self.file, e.to_string(), "check the coordinates"))?;
         for (index, c) in model.constraints().iter().enumerate() {
-            let (h, _) = derived.constraint(index, &initial.q);
-            if h.is_nan() || h < 0.0 {
+            let (h, gradient) = derived.constraint(index, &initial.q);
+            if !h.is_finite() || gradient.iter().any(|a| !a.is_finite()) {
+                let h_item = root.get("constraint").expect("checked");
+                return Err(self.at(
+                    h_item.span().start,
+                    &format!("constraint[{}].h", index + 1),
+                    format!(
+                        "h of constraint `{}` or its gradient is not finite at the initial state (h(q0) = {h}, A(q0) = {gradient:?})",
+                        c.name
+                    ),
+                    "look for a division by zero or a square root of 0 in h at the initial state, or start elsewhere",
+                ));
+            }
+            if h < 0.0 {
                 return Err(initial_at(
                     format!(
                         "the initial state violates constraint `{}`: h(q0) = {h:e}, but the admissible side is h >= 0",
@@ -1253,6 +1273,16 @@ impl<'s> Cx<'s> {
             }
         }
         let (mass, positive) = derived.mass_matrix(&initial.q, &initial.q_dot);
+        let energy = derived.energy(&initial.q, &initial.q_dot);
+        if !energy.is_finite() || mass.iter().any(|m| !m.is_finite()) {
+            let lagrangian = root.get("lagrangian").expect("checked");
+            return Err(self.at(
+                lagrangian.span().start,
+                "lagrangian",
+                format!("the Lagrangian's energy or mass matrix is not finite at the initial state (energy {energy})"),
+                "look for a division by zero, or a logarithm or square root of 0, at the initial state, or start elsewhere",
+            ));
+        }
         if !positive {
             let n = model.dimension();
             let lagrangian = root.get("lagrangian").expect("checked");
@@ -1320,7 +1350,8 @@ fn describe(error: &ExprError, names: &Names<'_>, what: &str) -> (String, String
     let ExprError::UnknownName { name, .. } = error else {
         return (
             format!("in {what}: {error}"),
-            "fix the formula; the language is described in zenosim-model's expr module".to_string(),
+            "fix the formula; the README's \"Model files\" section lists what formulas may hold"
+                .to_string(),
         );
     };
     let is = |list: &[String]| list.iter().any(|c| c == name);

@@ -486,3 +486,20 @@ fn names_that_would_repeat_a_column_of_the_trajectory() {
     );
     says(&e, "has the name of constraint `floor`'s column");
 }
+
+#[test]
+fn non_finite_values_at_the_initial_state() {
+    let e = error(&with("h = \"y\"", "h = \"y/x\""));
+    says(&e, "is not finite at the initial state");
+    assert_eq!(e.key(), Some("constraint[1].h"));
+    let e = error(&with("- m*g*y\"", "- m*g*y + ln(x)\""));
+    says(&e, "not finite at the initial state");
+    assert_eq!(e.key(), Some("lagrangian"));
+}
+
+#[test]
+fn a_parameter_given_as_an_initial_value() {
+    let e = error(&with("x_dot = 0.5", "g = 3"));
+    says(&e, "`g` is a parameter, not a coordinate or a velocity");
+    assert_eq!(e.key(), Some("initial.g"));
+}
