@@ -393,8 +393,8 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let h: f64 = self.sim.model.constraint(index, &before[..self.n]);
         if let ZenoStrategy::Epsilon(eps) = self.sim.options.zeno {
             // The paper's rule, on the state just before the impact.
+            // The crossing is replaced by R∞: it is no impact, and not counted as one.
             if h.abs() <= eps && normal.a_q_dot.abs() <= eps {
-                self.sequence.record(index, t);
                 let round_off = (e * normal.a_q_dot_round_off, normal.h_ddot_round_off);
                 let prediction =
                     Prediction::new(-e * normal.a_q_dot, normal.h_ddot_free, e, round_off);

@@ -123,4 +123,8 @@ fn the_epsilon_rule_switches_on_the_pre_impact_state() {
     }
     // The prediction of τ∞ from the pre-impact state is still the closed form (flat floor).
     assert!(relative(run.zeno[0].t_zeno, ball.zeno_time(H0)) < 1e-9);
+    // The crossing replaced by the switch is not an impact: the counts agree.
+    let impacts = run.impact_times(0).len();
+    assert_eq!(run.zeno[0].impacts, impacts);
+    assert_eq!(run.stats.impacts, impacts as u64);
 }
