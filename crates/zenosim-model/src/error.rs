@@ -197,6 +197,17 @@ pub(crate) fn suggest<'a>(
         .map(|(_, c)| c)
 }
 
+/// `"did you mean `x`? "` for the candidate closest to `word`, or nothing.
+pub(crate) fn did_you_mean<'a>(
+    word: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> String {
+    match suggest(word, candidates) {
+        Some(s) => format!("did you mean `{s}`? "),
+        None => String::new(),
+    }
+}
+
 /// Levenshtein distance, in characters.
 fn edit_distance(a: &str, b: &str) -> usize {
     let b: Vec<char> = b.chars().collect();

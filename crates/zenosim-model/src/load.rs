@@ -11,7 +11,7 @@ use zenosim::{
     SimulationOptions, State, Tolerances, ZenoStrategy, MAX_DIMENSION,
 };
 
-use crate::error::{suggest, Lines, Location, ModelError};
+use crate::error::{did_you_mean, Lines, Location, ModelError};
 use crate::expr::{is_reserved, ExprError, Expression, Limits, Scope};
 use crate::file_model::FileModel;
 
@@ -325,10 +325,7 @@ impl<'s> Cx<'s> {
         unknown.sort_by_key(|(k, _)| k.span().start);
         if let Some((key, _)) = unknown.first() {
             let name = key.get_ref().as_ref();
-            let hint = match suggest(name, allowed.iter().copied()) {
-                Some(s) => format!("did you mean `{s}`? "),
-                None => String::new(),
-            };
+            let hint = did_you_mean(name, allowed.iter().copied());
             return Err(self.at(
                 key.span().start,
                 &join(prefix, name),
@@ -769,10 +766,7 @@ impl<'s> Cx<'s> {
                     .map(|(p, _)| p.as_str())
                     .chain(coordinates.iter().chain(velocities).map(String::as_str))
                     .collect();
-                let hint = match suggest(&o.name, known.iter().copied()) {
-                    Some(s) => format!("did you mean `{s}`? "),
-                    None => String::new(),
-                };
+                let hint = did_you_mean(&o.name, known.iter().copied());
                 return Err(ModelError {
                     file: self.file.into(),
                     location: Location::Override(o.to_string()),
@@ -1049,10 +1043,7 @@ impl<'s> Cx<'s> {
                         .chain(velocities)
                         .map(String::as_str)
                         .collect();
-                    let hint = match suggest(name, known.iter().copied()) {
-                        Some(s) => format!("did you mean `{s}`? "),
-                        None => String::new(),
-                    };
+                    let hint = did_you_mean(name, known.iter().copied());
                     return Err(self.at(
                         key.span().start,
                         &path,
@@ -1388,10 +1379,7 @@ fn describe(error: &ExprError, names: &Names<'_>, what: &str) -> (String, String
             known.extend(names.velocities.iter().map(String::as_str));
         }
         known.extend(names.parameters.iter().map(|(p, _)| p.as_str()));
-        let hint = match suggest(name, known.iter().copied().chain(["pi"])) {
-            Some(s) => format!("did you mean `{s}`? "),
-            None => String::new(),
-        };
+        let hint = did_you_mean(name, known.iter().copied().chain(["pi"]));
         let available = if known.is_empty() {
             "no names are defined here except pi".to_string()
         } else {
