@@ -1018,12 +1018,12 @@ impl<'s> Cx<'s> {
     ) -> Result<State, ModelError> {
         let n = coordinates.len();
         let mut formulas: Vec<Option<Formula>> = vec![None; 2 * n];
-        let slot = |name: &str| {
-            coordinates
-                .iter()
-                .position(|c| c == name)
-                .or_else(|| velocities.iter().position(|v| v == name).map(|i| n + i))
+        // The slot of a coordinate or velocity, as formulas of the state bind them.
+        let state = Names {
+            reads: Reads::State,
+            ..*constants
         };
+        let slot = |name: &str| state.resolve(name);
         if let Some(item) = root.get("initial") {
             let table = self.table(item, "initial", "[initial] with lines x = 1.0, x_dot = 0.5")?;
             for (key, value) in table {
