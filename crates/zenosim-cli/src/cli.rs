@@ -6,6 +6,8 @@ use clap::{Args, Parser, Subcommand};
 use zenosim::ZenoStrategy;
 use zenosim_model::Override;
 
+use crate::plot::{Format, Plane};
+
 /// Simulate a Lagrangian hybrid system with impacts, written in a model file, through its Zeno
 /// points and on past them.
 #[derive(Debug, Parser)]
@@ -33,16 +35,22 @@ directory; characters of the name other than letters, digits, '-', '_' and '.' b
                   every accepted step (or every --dt) and the states just before and just after
                   every event; numbers in shortest round-trip form
   summary.json    the outcome, the final state, the Zeno points, the events, the hybrid time
-                  domain and the work counters (non-finite numbers are written as null)
+                  domain, the work counters and the constraints' formulas h (non-finite numbers
+                  are written as null)
 Each file is written to a temporary name (.<file>.partial) and renamed when complete;
-summary.json is written last (an old one is removed first), so its presence means the files
-are complete and belong together.
+summary.json is written last (an old one, and old plots, are removed first), so its presence
+means the files are complete and belong together.
+With --plot, the plots are drawn from these files once they are complete, as `zenosim plot DIR`
+draws them (see `zenosim plot --help`).
 
 Exit status: 0 finished; 1 the simulation failed (the files are still completed, status
 \"failed\") or the output could not be written; 2 a bad model or bad arguments (nothing is
 written); 3 the run stopped at a Zeno point (--zeno off)."
     )]
     Run(RunArgs),
+    /// Draw the plots of a run from its output directory (summary.json and trajectory.csv).
+    #[command(after_help = PLOT_HELP)]
+    Plot(PlotArgs),
     /// Check a model and print what zenosim derives from it at the initial state.
     #[command(after_help = "Exit status: 0 the model is valid; 2 it is not (or bad arguments).")]
     Check(CheckArgs),
@@ -85,6 +93,60 @@ pub struct RunArgs {
     /// [default: the file's simulation.dt, else every step].
     #[arg(long, value_name = "DT", allow_negative_numbers = true, value_parser = positive)]
     pub dt: Option<f64>,
+
+    /// Draw the plots into the output directory once the run's files are complete (see
+    /// `zenosim plot --help`).
+    #[arg(long)]
+    pub plot: bool,
+
+    /// With --plot: the plots' format [default: svg].
+    #[arg(long, value_enum, value_name = "svg|png")]
+    pub format: Option<Format>,
+
+    /// With --plot: the configuration plot's axes, two coordinates or velocities X,Y
+    /// [default: the two coordinates the first constraint depends on].
+    #[arg(long, value_name = "X,Y", value_parser = parse_plane)]
+    pub plane: Option<Plane>,
+}
+
+/// What `zenosim plot --help` says of the files and the exit status.
+const PLOT_HELP: &str = "Plots, written into DIR as <name>.svg (or .png with --format png):
+  figure         the paper's Figs. 4 and 5: velocities, displacements and the configuration
+                 plane, one above the other
+  velocities     q_dot against t, one line per coordinate
+  displacements  q against t
+  energy         the energy against t
+  plane          one coordinate against another (--plane), over the curves h = 0 of the
+                 constraints that depend on those two only
+  zeno           the Zeno diagnostic: flight times between impacts against the impact index, on
+                 a log scale, with the fitted ratio and the estimate of τ∞; a panel per Zeno point
+On every time plot impacts (dots) and lift-offs (triangles) are marked along the time axis, and
+each switch to the constrained motion (or the stall, with --zeno off) is a labelled vertical
+line. Long runs are decimated for drawing (per pixel column, its first, last, lowest and highest
+points); no event mark is dropped. Each file is written to a temporary name and renamed when
+complete. In SVG, each part is a group <g class=\"series|impacts|liftoffs|switch|stall|...\"
+data-name=\"...\">.
+
+Exit status: 0 the plots are written; 1 a plot could not be written; 2 bad arguments, or DIR
+does not hold a complete run (summary.json or trajectory.csv missing or malformed: the message
+names the file and the line).";
+
+/// `zenosim plot`.
+#[derive(Debug, Args)]
+pub struct PlotArgs {
+    /// The output directory of a run (`zenosim run --out DIR`, by default out/<model name>).
+    #[arg(value_name = "DIR")]
+    pub dir: PathBuf,
+
+    /// The plots' format.
+    #[arg(long, value_enum, value_name = "svg|png", default_value = "svg")]
+    pub format: Format,
+
+    /// The configuration plot's axes, two coordinates or velocities X,Y [default: the two
+    /// coordinates the first constraint depends on, else the last two coordinates, else the
+    /// coordinate and its velocity].
+    #[arg(long, value_name = "X,Y", value_parser = parse_plane)]
+    pub plane: Option<Plane>,
 }
 
 /// `zenosim check`.
@@ -100,6 +162,10 @@ pub struct CheckArgs {
 }
 
 fn parse_override(text: &str) -> Result<Override, String> {
+    text.parse()
+}
+
+fn parse_plane(text: &str) -> Result<Plane, String> {
     text.parse()
 }
 

@@ -1,8 +1,10 @@
 //! The `zenosim` command: simulate a hybrid Lagrangian written in a model file (`zenosim run`),
-//! or check one and print what zenosim derives from it (`zenosim check`).
+//! check one and print what zenosim derives from it (`zenosim check`), or draw the plots of a
+//! run (`zenosim plot`, or `zenosim run --plot`).
 //!
-//! Exit status: 0 finished (or a valid model), 1 the simulation failed or the output could not
-//! be written, 2 a bad model or bad arguments, 3 stopped at a Zeno point (`--zeno off`).
+//! Exit status: 0 finished (or a valid model, or plots drawn), 1 the simulation failed or the
+//! output could not be written, 2 a bad model, a bad run directory or bad arguments, 3 stopped
+//! at a Zeno point (`--zeno off`).
 //! Every error is printed on stderr as `error: …`; reports go to stdout.
 
 mod check;
@@ -10,6 +12,7 @@ mod cli;
 mod input;
 mod json_layout;
 mod output;
+mod plot;
 mod progress;
 mod run;
 mod summary;
@@ -62,6 +65,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(args) => run::run(&args),
         Command::Check(args) => check::check(&args),
+        Command::Plot(args) => plot::plot(&args),
     };
     match result {
         Ok(code) => ExitCode::from(code),

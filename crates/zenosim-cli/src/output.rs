@@ -13,23 +13,31 @@ pub struct OutputDir {
 }
 
 impl OutputDir {
-    /// Creates `dir` (and its parents) and removes a `summary.json` left by an earlier run, so
-    /// that a `summary.json` always belongs to the files beside it.
-    pub fn prepare(dir: &Path, summary: &str) -> anyhow::Result<Self> {
+    /// Creates `dir` (and its parents) and removes the files of `stale` that an earlier run
+    /// left (its `summary.json`, its plots), so that the files beside a `summary.json` always
+    /// belong to it.
+    pub fn prepare(dir: &Path, stale: &[String]) -> anyhow::Result<Self> {
         fs::create_dir_all(dir)
             .with_context(|| format!("cannot create the output directory {}", dir.display()))?;
-        let old = dir.join(summary);
-        match fs::remove_file(&old) {
-            Err(error) if error.kind() != io::ErrorKind::NotFound => {
-                return Err(error).with_context(|| {
-                    format!("cannot remove the old {} before the run", old.display())
-                })
+        for name in stale {
+            let old = dir.join(name);
+            match fs::remove_file(&old) {
+                Err(error) if error.kind() != io::ErrorKind::NotFound => {
+                    return Err(error).with_context(|| {
+                        format!("cannot remove the old {} before the run", old.display())
+                    })
+                }
+                _ => {}
             }
-            _ => {}
         }
-        Ok(Self {
+        Ok(Self::existing(dir))
+    }
+
+    /// The directory `dir`, as it is (to add files to a run's output).
+    pub fn existing(dir: &Path) -> Self {
+        Self {
             dir: dir.to_path_buf(),
-        })
+        }
     }
 
     /// The path of the file `name` in this directory.

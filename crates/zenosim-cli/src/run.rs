@@ -14,6 +14,7 @@ use zenosim_model::ModelFile;
 use crate::cli::RunArgs;
 use crate::json_layout;
 use crate::output::OutputDir;
+use crate::plot;
 use crate::progress::Progress;
 use crate::summary::{status, Record, Summary, TrajectoryJson};
 use crate::trajectory::{number, TrajectoryWriter};
@@ -32,7 +33,25 @@ const SUMMARY_INDENT: usize = 2;
 /// Runs the model of `args`; the exit status, or why nothing (or not everything) was written.
 pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     // Everything is checked before the output directory is touched.
+    if !args.plot && (args.format.is_some() || args.plane.is_some()) {
+        return Err(anyhow!(
+            "--format and --plane say how to draw the plots: add --plot to draw them"
+        ))
+        .bad_input();
+    }
     let file = crate::input::load(&args.model, &args.sets).bad_input()?;
+    if let Some(plane) = &args.plane {
+        let names: Vec<String> = file
+            .model
+            .coordinate_names()
+            .into_iter()
+            .chain(file.velocity_names())
+            .collect();
+        plane
+            .columns(&names)
+            .with_context(|| format!("{}", args.model.display()))
+            .bad_input()?;
+    }
     let options = options(&file, args);
     let simulation = Simulation::new(&file.model, &file.initial.q, &file.initial.q_dot, options)
         .map_err(|error| {
@@ -44,7 +63,10 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         .bad_input()?;
     let dir = args.out.clone().unwrap_or_else(|| default_dir(&file.name));
 
-    let out = OutputDir::prepare(&dir, SUMMARY).output()?;
+    let stale: Vec<String> = std::iter::once(SUMMARY.to_string())
+        .chain(plot::plot_files())
+        .collect();
+    let out = OutputDir::prepare(&dir, &stale).output()?;
     let constraints: Vec<String> = file
         .model
         .constraints()
@@ -87,14 +109,16 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     .summary();
     let summary_path = write_summary(&out, &summary)?;
 
-    print_report(&report(
-        &message,
-        &file,
-        &execution,
-        &constraints,
-        &[(out.path(TRAJECTORY), Some(rows)), (summary_path, None)],
-    ));
-    Ok(match &execution.outcome {
+    // The plots, from the files just completed, exactly as `zenosim plot` draws them.
+    let plots = if args.plot {
+        plot::draw(&dir, args.format.unwrap_or_default(), args.plane.as_ref())
+    } else {
+        Ok(Vec::new())
+    };
+    let mut files = vec![(out.path(TRAJECTORY), Some(rows)), (summary_path, None)];
+    files.extend(plots.iter().flatten().map(|path| (path.clone(), None)));
+    print_report(&report(&message, &file, &execution, &constraints, &files));
+    let code = match &execution.outcome {
         Outcome::Finished => EXIT_OK,
         Outcome::ZenoStalled { .. } => EXIT_ZENO_STALLED,
         Outcome::Failed(error) => {
@@ -104,7 +128,10 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
             ));
             EXIT_FAILED
         }
-    })
+    };
+    // A plot that could not be drawn is an output failure, said after the run's own outcome.
+    plots?;
+    Ok(code)
 }
 
 /// Writes `summary.json` (under its temporary name, then renamed); its path.
@@ -166,7 +193,7 @@ pub fn default_dir(name: &str) -> PathBuf {
 }
 
 /// `count` `what`, with an English plural.
-fn plural(count: usize, what: &str) -> String {
+pub fn plural(count: usize, what: &str) -> String {
     if count == 1 {
         format!("1 {what}")
     } else {

@@ -28,6 +28,9 @@ pub struct Summary<'a> {
     pub constraints: Vec<&'a str>,
     /// The constraints' restitutions, by name.
     pub restitutions: Pairs<'a>,
+    /// The constraints' functions `h`, as the model file writes them, by name (the plots
+    /// draw `h = 0` from them and the parameters).
+    pub h: Pairs<'a, &'a str>,
     /// The parameters after `--set`, in the file's order.
     pub parameters: Pairs<'a>,
     /// The initial state after `--set`.
@@ -72,9 +75,9 @@ impl<T, U: Serialize> Serialize for Lazy<'_, T, U> {
 }
 
 /// Name → value pairs, serialised as a JSON object in their order.
-pub struct Pairs<'a>(pub Vec<(&'a str, f64)>);
+pub struct Pairs<'a, V = f64>(pub Vec<(&'a str, V)>);
 
-impl Serialize for Pairs<'_> {
+impl<V: Serialize> Serialize for Pairs<'_, V> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         let mut map = serializer.serialize_map(Some(self.0.len()))?;
         for (name, value) in &self.0 {
@@ -271,6 +274,14 @@ impl<'a> Record<'a> {
                     .map(|c| (c.name.as_str(), c.restitution))
                     .collect(),
             ),
+            h: Pairs(
+                file.model
+                    .constraints()
+                    .iter()
+                    .enumerate()
+                    .map(|(i, c)| (c.name.as_str(), file.model.constraint_formula(i).source()))
+                    .collect(),
+            ),
             parameters: Pairs(
                 file.parameters
                     .iter()
@@ -370,5 +381,7 @@ mod tests {
     fn pairs_keep_their_order() {
         let json = serde_json::to_string(&Pairs(vec![("m", 1.0), ("g", 9.81), ("a", 2.0)]));
         assert_eq!(json.unwrap(), r#"{"m":1.0,"g":9.81,"a":2.0}"#);
+        let json = serde_json::to_string(&Pairs(vec![("wall", "x - 1"), ("floor", "y")]));
+        assert_eq!(json.unwrap(), r#"{"wall":"x - 1","floor":"y"}"#);
     }
 }

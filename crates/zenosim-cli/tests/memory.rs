@@ -1,5 +1,6 @@
 //! Memory stays flat however long the run: a million accepted steps, streamed to disk, in under
-//! 50 MB resident. Linux only (it reads the child's peak RSS, VmHWM, from /proc).
+//! 50 MB resident, and their plots drawn in under 50 MB too. Linux only (it reads the child's
+//! peak RSS, VmHWM, from /proc).
 //!
 //! `cargo test -p zenosim-cli --test memory -- --nocapture` prints the figures.
 
@@ -38,17 +39,17 @@ fn peak_kb(pid: u32) -> Option<u64> {
     line.split_whitespace().nth(1)?.parse().ok()
 }
 
+/// Runs `zenosim <args>` in `dir`, sampling its resident set: its exit code, its peak RSS in
+/// kB and how long it took.
 #[cfg(target_os = "linux")]
-#[test]
-fn a_million_steps_stay_under_50_mb() {
+fn peak_of(dir: &std::path::Path, args: &[&str]) -> (Option<i32>, u64, std::time::Duration) {
     use std::process::{Command, Stdio};
     use std::time::{Duration, Instant};
 
-    let scratch = common::Scratch::new(LONG_FLIGHT);
     let start = Instant::now();
     let mut child = Command::new(common::binary())
-        .args(["run", "model.toml", "--out", "out"])
-        .current_dir(scratch.dir.path())
+        .args(args)
+        .current_dir(dir)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
@@ -64,8 +65,15 @@ fn a_million_steps_stay_under_50_mb() {
         }
         std::thread::sleep(Duration::from_millis(5));
     };
-    let elapsed = start.elapsed();
-    assert_eq!(status.code(), Some(0));
+    (status.code(), peak, start.elapsed())
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_million_steps_stay_under_50_mb() {
+    let scratch = common::Scratch::new(LONG_FLIGHT);
+    let (code, peak, elapsed) = peak_of(scratch.dir.path(), &["run", "model.toml", "--out", "out"]);
+    assert_eq!(code, Some(0));
     let summary = common::summary(&scratch.path("out"));
     let steps = summary["stats"]["steps"].as_u64().unwrap();
     let rows = summary["trajectory"]["rows"].as_u64().unwrap();
@@ -82,4 +90,15 @@ fn a_million_steps_stay_under_50_mb() {
     assert!(rows > steps);
     assert!(peak > 0, "the peak RSS was read");
     assert!(peak < 50 * 1024, "peak RSS {peak} kB");
+
+    // Its plots: the trajectory is read row by row and decimated, never held whole.
+    let (code, peak, elapsed) = peak_of(scratch.dir.path(), &["plot", "out"]);
+    assert_eq!(code, Some(0));
+    println!(
+        "plotted in {:.2} s; peak RSS {:.1} MB",
+        elapsed.as_secs_f64(),
+        peak as f64 / 1024.0
+    );
+    assert!(scratch.path("out/figure.svg").exists());
+    assert!(peak > 0 && peak < 50 * 1024, "peak RSS {peak} kB");
 }

@@ -1,7 +1,8 @@
 //! A model read from a file against the same model written in Rust, over whole runs.
 //!
 //! Target (issue: model files): the paper's ball to `t = 6` at `rtol = atol = 1e-10` at most
-//! 2× slower from its file than as the engine's Rust model. Run with
+//! 2× slower from its file than as the engine's Rust model. "interpreted" is the file model
+//! without its compiled derivatives, for comparison. Run with
 //! `cargo bench -p zenosim-model --bench file_vs_rust`.
 
 use std::hint::black_box;
@@ -37,7 +38,9 @@ fn bench_run<L: HybridLagrangian>(
     c.bench_function(name, |b| b.iter(|| black_box(sim.run(&mut ()))));
 }
 
-/// The file and the Rust model, with the file's options (the same as the Rust example's).
+/// The file (with its compiled derivatives, as zenosim runs it, and interpreted: differentiated
+/// through the formula interpreter at every step) and the Rust model, with the file's options
+/// (the same as the Rust example's).
 fn pair<M: HybridLagrangian>(c: &mut Criterion, file: &str, rust: &Example<M>) {
     let file = load(file);
     let options = file.options();
@@ -46,6 +49,14 @@ fn pair<M: HybridLagrangian>(c: &mut Criterion, file: &str, rust: &Example<M>) {
         c,
         &format!("{label} (file)"),
         &file.model,
+        &file.initial.q,
+        &file.initial.q_dot,
+        options,
+    );
+    bench_run(
+        c,
+        &format!("{label} (file, interpreted)"),
+        &file.model.clone().interpreted(),
         &file.initial.q,
         &file.initial.q_dot,
         options,

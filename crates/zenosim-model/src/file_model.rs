@@ -1,13 +1,15 @@
 //! A hybrid Lagrangian whose `L`, `h` and optional `R∞` are compiled formulas.
 
-use zenosim::{Constraint, HybridLagrangian, Scalar};
+use zenosim::{Compiled, Constraint, HybridLagrangian, Scalar};
 
 use crate::expr::Expression;
 
 /// A model read from a file: a [`HybridLagrangian`] whose functions are compiled formulas.
 ///
 /// The formulas read the coordinates from slots `0..n` and the velocities from slots `n..2n`;
-/// the parameters are folded into them as constants. Build one with [`crate::parse_model`].
+/// the parameters are folded into them as constants. Their derivatives are traced once into
+/// straight-line programs ([`Compiled`]), which zenosim runs instead of differentiating the
+/// formulas at every step. Build one with [`crate::parse_model`].
 #[derive(Clone, Debug)]
 pub struct FileModel {
     pub(crate) coordinates: Vec<String>,
@@ -16,6 +18,8 @@ pub struct FileModel {
     pub(crate) h: Vec<Expression>,
     /// Per constraint, the user's `R∞`: (target slot, formula) pairs, evaluated together.
     pub(crate) resets: Vec<Vec<(usize, Expression)>>,
+    /// The derivatives traced into programs ([`Compiled`]), set once the model is checked.
+    pub(crate) compiled: Option<Compiled>,
 }
 
 impl FileModel {
@@ -27,6 +31,18 @@ impl FileModel {
     /// Constraint `index`'s formula `h`.
     pub fn constraint_formula(&self, index: usize) -> &Expression {
         &self.h[index]
+    }
+
+    /// The model without its compiled derivatives: zenosim then differentiates the formulas at
+    /// every step, as the interpreter evaluates them (slower; for comparisons).
+    pub fn interpreted(mut self) -> Self {
+        self.compiled = None;
+        self
+    }
+
+    /// The compiled derivatives, if any.
+    pub fn compiled_derivatives(&self) -> Option<&Compiled> {
+        self.compiled.as_ref()
     }
 
     /// Whether constraint `index` has its own `zeno_reset` map.
@@ -52,6 +68,10 @@ impl HybridLagrangian for FileModel {
     #[inline]
     fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D {
         self.h[index].eval(q)
+    }
+
+    fn compiled(&self) -> Option<&Compiled> {
+        self.compiled.as_ref()
     }
 
     fn coordinate_names(&self) -> Vec<String> {

@@ -7,7 +7,7 @@ use std::str::FromStr;
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 use zenosim::{
-    ActiveSet, Completion, Constraint, Derived, HybridLagrangian, Method, OutputGrid,
+    ActiveSet, Compiled, Completion, Constraint, Derived, HybridLagrangian, Method, OutputGrid,
     SimulationOptions, State, Tolerances, ZenoStrategy, MAX_DIMENSION,
 };
 
@@ -416,6 +416,7 @@ impl<'s> Cx<'s> {
             constraints: Vec::new(),
             h: Vec::new(),
             resets: Vec::new(),
+            compiled: None,
         };
         for c in constraints {
             model
@@ -425,6 +426,7 @@ impl<'s> Cx<'s> {
             model.resets.push(c.reset);
         }
         self.check_initial_state(root, &model, &initial)?;
+        model.compiled = Some(Compiled::trace(&model));
 
         Ok(ModelFile {
             name: name.to_string(),

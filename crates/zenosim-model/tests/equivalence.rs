@@ -14,6 +14,17 @@ fn models_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../models")
 }
 
+/// The file names of the shipped models, sorted.
+fn shipped_models() -> Vec<String> {
+    let mut names: Vec<_> = std::fs::read_dir(models_dir())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    names.sort();
+    names
+}
+
 fn load(name: &str) -> ModelFile {
     let path = models_dir().join(name);
     let source = std::fs::read_to_string(&path).unwrap();
@@ -29,6 +40,16 @@ fn run<L: HybridLagrangian>(
     Simulation::new(model, q0, q_dot0, options)
         .unwrap()
         .run(&mut ())
+}
+
+/// Runs a model file from its initial state with its own options.
+fn run_file(file: &ModelFile) -> Execution {
+    run(
+        &file.model,
+        &file.initial.q,
+        &file.initial.q_dot,
+        file.options(),
+    )
 }
 
 /// Runs the file and the Rust example with the file's options and compares the executions.
@@ -177,12 +198,7 @@ fn the_bouncing_ball() {
 
 #[test]
 fn every_shipped_model_loads_and_runs_to_its_stop_time() {
-    let mut names: Vec<_> = std::fs::read_dir(models_dir())
-        .unwrap()
-        .map(|e| e.unwrap().file_name().into_string().unwrap())
-        .filter(|n| n.ends_with(".toml"))
-        .collect();
-    names.sort();
+    let names = shipped_models();
     assert!(names.len() >= 6, "{names:?}");
     for name in names {
         let file = load(&name);
@@ -203,15 +219,88 @@ fn every_shipped_model_loads_and_runs_to_its_stop_time() {
     }
 }
 
+/// The largest difference of the event times of two executions with the same events.
+fn event_time_gap(a: &Execution, b: &Execution) -> f64 {
+    let kinds = |x: &Execution| x.events.iter().map(|e| e.kind).collect::<Vec<_>>();
+    assert_eq!(kinds(a), kinds(b));
+    a.events
+        .iter()
+        .zip(&b.events)
+        .map(|(x, y)| (x.t - y.t).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Every shipped model's derivatives are compiled in full, so none falls back to
+/// differentiating through the interpreter, and the compiled model runs as the interpreted one
+/// does: the formulas use no operation whose real part the interpreter adjusts (division, tan,
+/// tanh, powers beyond 3), so the numbers are the same and so are the event times.
+#[test]
+fn shipped_models_run_compiled_as_interpreted() {
+    let names = shipped_models();
+    for name in names {
+        let file = load(&name);
+        let compiled = file.model.compiled_derivatives().expect("compiled");
+        let (traced, parts) = compiled.coverage();
+        assert_eq!(traced, parts, "{name}: {traced} of {parts} parts compiled");
+        let interpreted = file.model.clone().interpreted();
+        assert!(interpreted.compiled_derivatives().is_none());
+        let (q0, v0) = (&file.initial.q, &file.initial.q_dot);
+        let fast = run(&file.model, q0, v0, file.options());
+        let slow = run(&interpreted, q0, v0, file.options());
+        let gap = event_time_gap(&fast, &slow);
+        assert!(gap <= 1e-12, "{name}: event times differ by {gap:e}");
+        assert_eq!(fast.final_state.q, slow.final_state.q, "{name}");
+        assert_eq!(fast.final_state.q_dot, slow.final_state.q_dot, "{name}");
+        println!(
+            "{name}: {} compiled operations, {} events, same as interpreted",
+            compiled.operations(),
+            fast.events.len()
+        );
+    }
+}
+
+/// A formula that branches on a value (`abs`) cannot be traced: that constraint is
+/// differentiated through the interpreter, the rest is compiled, and the run is right.
+/// A particle at x = 0.5 moving at 1 between elastic walls at x = ±1 (h = 1 − |x|) hits them
+/// at t = 0.5, 2.5, 4.5 (closed form).
+#[test]
+fn a_formula_with_abs_falls_back_to_differentiation_for_that_part() {
+    let source = r#"
+name = "walls"
+coordinates = ["x"]
+lagrangian = "0.5*x_dot^2"
+[[constraint]]
+name = "walls"
+h = "1 - abs(x)"
+restitution = 1.0
+[initial]
+x = 0.5
+x_dot = 1.0
+[simulation]
+t_end = 5.0
+"#;
+    let file = parse_model("walls.toml", source, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let compiled = file.model.compiled_derivatives().expect("compiled");
+    // The Lagrangian's terms and the energy; not the constraint's derivatives nor its guard.
+    assert_eq!(compiled.coverage(), (2, 4));
+    let run = run_file(&file);
+    assert_eq!(run.outcome, Outcome::Finished);
+    let impacts: Vec<f64> = run
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Impact)
+        .map(|e| e.t)
+        .collect();
+    assert_eq!(impacts.len(), 3, "{impacts:?}");
+    for (t, exact) in impacts.iter().zip([0.5, 2.5, 4.5]) {
+        assert!((t - exact).abs() <= 1e-9, "impact at {t}, exactly {exact}");
+    }
+}
+
 #[test]
 fn the_lift_off_model_lifts_off_and_lands() {
     let file = load("ball-off-cylinder.toml");
-    let run = run(
-        &file.model,
-        &file.initial.q,
-        &file.initial.q_dot,
-        file.options(),
-    );
+    let run = run_file(&file);
     assert_eq!(run.outcome, Outcome::Finished);
     // Bounces to rest on the cylinder, slides off, bounces to rest on the floor.
     let liftoffs: Vec<_> = run

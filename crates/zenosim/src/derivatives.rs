@@ -10,9 +10,9 @@
 //!
 //! The runtime dimension is mapped to `N` by [`with_dimension!`] (up to [`MAX_DIMENSION`]).
 
-use crate::model::HybridLagrangian;
+use crate::model::{HybridLagrangian, Scalar};
 use nalgebra::{Const, SMatrix, SVector, U1};
-use num_dual::{Derivative, Dual2, Dual64, DualVec, HyperDual64, HyperDualVec};
+use num_dual::{Derivative, Dual, Dual2, DualVec, HyperDual, HyperDualVec};
 
 /// The largest number of coordinates a model may have.
 ///
@@ -71,11 +71,13 @@ macro_rules! with_dimension {
 pub(crate) use with_dimension;
 
 /// The Lagrangian's terms at `(q, q̇)`: `M q̈ = force` is the Euler–Lagrange equation.
-pub(crate) struct LagrangianTerms<const N: usize> {
+///
+/// Over `f64` they are numbers; over a traced number ([`crate::compiled`]) the formulas for them.
+pub(crate) struct LagrangianTerms<const N: usize, T = f64> {
     /// `M = ∂²L/∂q̇²`.
-    pub mass: SMatrix<f64, N, N>,
+    pub mass: SMatrix<T, N, N>,
     /// `∂L/∂q − (∂²L/∂q̇∂q) q̇`, i.e. `−(C q̇ + N)` for `L = ½ q̇ᵀMq̇ − V`.
-    pub force: SVector<f64, N>,
+    pub force: SVector<T, N>,
 }
 
 /// One constraint's terms at `(q, q̇)`.
@@ -92,27 +94,56 @@ pub(crate) struct ConstraintTerms<const N: usize> {
     pub hessian_q_dot_norm: f64,
 }
 
-fn constants<D: Copy, const N: usize>(x: &[f64], lift: impl Fn(f64) -> D) -> [D; N] {
-    std::array::from_fn(|i| lift(x[i]))
+/// The derivatives of one constraint that [`ConstraintTerms`] is made of, over any number type.
+pub(crate) struct ConstraintParts<const N: usize, T> {
+    /// `h(q)`.
+    pub h: T,
+    /// `A = ∂h/∂q`.
+    pub gradient: SVector<T, N>,
+    /// `A q̇`.
+    pub a_q_dot: T,
+    /// `∇²h q̇`.
+    pub hessian_q_dot: SVector<T, N>,
 }
 
-/// `M = ∂²L/∂q̇²`.
+impl<const N: usize> ConstraintParts<N, f64> {
+    fn finish(self, q_dot: &[f64]) -> ConstraintTerms<N> {
+        let v = SVector::<f64, N>::from_column_slice(&q_dot[..N]);
+        ConstraintTerms {
+            h: self.h,
+            gradient: self.gradient,
+            a_q_dot: self.a_q_dot,
+            a_dot_q_dot: self.hessian_q_dot.dot(&v),
+            hessian_q_dot_norm: self.hessian_q_dot.norm(),
+        }
+    }
+}
+
+/// 1 or 0 as a `T`: a seed of a dual number.
+fn unit<T: Scalar>(on: bool) -> T {
+    if on {
+        T::one()
+    } else {
+        T::zero()
+    }
+}
+
+/// `M = ∂²L/∂q̇²`, over any number type `T` (`f64`, or traced).
 ///
 /// One scalar hyper-dual pass per entry of the upper triangle (`ε₁` along `q̇_i`, `ε₂` along
 /// `q̇_j`): plain `Copy` numbers that the compiler keeps in registers, which measured faster
 /// over whole runs than one pass over a hyper-dual vector with `N × N` matrices.
-pub(crate) fn mass_matrix<const N: usize, L: HybridLagrangian>(
+pub(crate) fn mass_matrix_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     model: &L,
-    q: &[f64],
-    q_dot: &[f64],
-) -> SMatrix<f64, N, N> {
-    let q_d: [HyperDual64; N] = constants(q, HyperDual64::from_re);
-    let mut mass = SMatrix::<f64, N, N>::zeros();
+    q: &[T],
+    q_dot: &[T],
+) -> SMatrix<T, N, N> {
+    let q_d: [HyperDual<T>; N] = std::array::from_fn(|k| HyperDual::from_re(q[k]));
+    let mut mass = SMatrix::<T, N, N>::zeros();
     for i in 0..N {
         for j in i..N {
-            let q_dot_d: [HyperDual64; N] = std::array::from_fn(|k| {
-                let unit = |m: usize| if k == m { 1.0 } else { 0.0 };
-                HyperDual64::new(q_dot[k], unit(i), unit(j), 0.0)
+            let q_dot_d: [HyperDual<T>; N] = std::array::from_fn(|k| {
+                HyperDual::new(q_dot[k], unit(k == i), unit(k == j), T::zero())
             });
             let m_ij = model.lagrangian(&q_d, &q_dot_d).eps1eps2;
             mass[(i, j)] = m_ij;
@@ -122,34 +153,32 @@ pub(crate) fn mass_matrix<const N: usize, L: HybridLagrangian>(
     mass
 }
 
-/// `M` and the Euler–Lagrange force `∂L/∂q − (∂²L/∂q̇∂q) q̇`.
-pub(crate) fn lagrangian_terms<const N: usize, L: HybridLagrangian>(
+/// `M` and the Euler–Lagrange force `∂L/∂q − (∂²L/∂q̇∂q) q̇`, over any number type `T`.
+pub(crate) fn lagrangian_terms_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     model: &L,
-    q: &[f64],
-    q_dot: &[f64],
-) -> LagrangianTerms<N> {
-    let mass = mass_matrix::<N, L>(model, q, q_dot);
+    q: &[T],
+    q_dot: &[T],
+) -> LagrangianTerms<N, T> {
+    let mass = mass_matrix_of::<T, N, L>(model, q, q_dot);
 
     // (∂²L/∂q̇∂q) q̇: one scalar hyper-dual pass per row, ε₁ on q̇_i, ε₂ along q̇ in q (cheaper
     // than one pass over a hyper-dual vector, whose optional parts cost branches per operation).
-    let q_along: [HyperDual64; N] =
-        std::array::from_fn(|k| HyperDual64::new(q[k], 0.0, q_dot[k], 0.0));
-    let mut mixed = SVector::<f64, N>::zeros();
-    for (i, m) in mixed.iter_mut().enumerate() {
-        let q_dot_d: [HyperDual64; N] = std::array::from_fn(|k| {
-            HyperDual64::new(q_dot[k], if k == i { 1.0 } else { 0.0 }, 0.0, 0.0)
-        });
-        *m = model.lagrangian(&q_along, &q_dot_d).eps1eps2;
-    }
+    let q_along: [HyperDual<T>; N] =
+        std::array::from_fn(|k| HyperDual::new(q[k], T::zero(), q_dot[k], T::zero()));
+    let mixed: [T; N] = std::array::from_fn(|i| {
+        let q_dot_d: [HyperDual<T>; N] =
+            std::array::from_fn(|k| HyperDual::new(q_dot[k], unit(k == i), T::zero(), T::zero()));
+        model.lagrangian(&q_along, &q_dot_d).eps1eps2
+    });
 
     // ∂L/∂q.
-    type Grad<const N: usize> = DualVec<f64, Const<N>>;
-    let q_g: [Grad<N>; N] = std::array::from_fn(|i| {
-        let mut x = Grad::<N>::from_re(q[i]);
+    type Grad<T, const N: usize> = DualVec<T, Const<N>>;
+    let q_g: [Grad<T, N>; N] = std::array::from_fn(|i| {
+        let mut x = Grad::<T, N>::from_re(q[i]);
         x.eps = Derivative::derivative_generic(Const::<N>, U1, i);
         x
     });
-    let q_dot_g: [Grad<N>; N] = constants(q_dot, Grad::<N>::from_re);
+    let q_dot_g: [Grad<T, N>; N] = std::array::from_fn(|i| Grad::<T, N>::from_re(q_dot[i]));
     let dl_dq = model
         .lagrangian(&q_g, &q_dot_g)
         .eps
@@ -157,65 +186,135 @@ pub(crate) fn lagrangian_terms<const N: usize, L: HybridLagrangian>(
 
     LagrangianTerms {
         mass,
-        force: dl_dq - mixed,
+        force: SVector::<T, N>::from_fn(|i, _| dl_dq[i] - mixed[i]),
     }
 }
 
-/// `h`, `A`, `A q̇` and `Ȧ q̇` of constraint `index`.
+/// `h`, `A`, `A q̇` and `∇²h q̇` of constraint `index`, over any number type `T`: one pass over a
+/// hyper-dual vector, `ε₁` on `q`, `ε₂` the direction `q̇`.
+pub(crate) fn constraint_parts_of<T: Scalar, const N: usize, L: HybridLagrangian>(
+    model: &L,
+    index: usize,
+    q: &[T],
+    q_dot: &[T],
+) -> ConstraintParts<N, T> {
+    type Hd<T, const N: usize> = HyperDualVec<T, Const<N>, U1>;
+    let q_d: [Hd<T, N>; N] = std::array::from_fn(|i| {
+        let mut x = Hd::<T, N>::from_re(q[i]);
+        x.eps1 = Derivative::derivative_generic(Const::<N>, U1, i);
+        x.eps2 = Derivative::some(SMatrix::<T, 1, 1>::new(q_dot[i]));
+        x
+    });
+    let h = model.constraint(index, &q_d);
+    ConstraintParts {
+        h: h.re,
+        gradient: h.eps1.unwrap_generic(Const::<N>, U1),
+        a_q_dot: h.eps2.unwrap_generic(U1, U1)[0],
+        hessian_q_dot: h.eps1eps2.unwrap_generic(Const::<N>, U1),
+    }
+}
+
+/// `h`, `ḣ = A q̇` and `ḧ = Ȧ q̇` along free flight of constraint `index`, over any number type,
+/// in one scalar second-order pass (any `n`).
+pub(crate) fn guard_along_of<T: Scalar, L: HybridLagrangian>(
+    model: &L,
+    index: usize,
+    q: &[T],
+    q_dot: &[T],
+) -> (T, T, T) {
+    let mut q_d = [Dual2::<T>::from_re(T::zero()); MAX_DIMENSION];
+    for ((x, &qi), &vi) in q_d.iter_mut().zip(q).zip(q_dot) {
+        *x = Dual2::new(qi, vi, T::zero());
+    }
+    let h = model.constraint(index, &q_d[..q.len()]);
+    (h.re, h.v1, h.v2)
+}
+
+/// The energy `q̇ᵀ ∂L/∂q̇ − L` over any number type (any `n`): a dual in the direction `q̇`.
+pub(crate) fn energy_of<T: Scalar, L: HybridLagrangian>(model: &L, q: &[T], q_dot: &[T]) -> T {
+    let mut q_d = [Dual::<T>::from_re(T::zero()); MAX_DIMENSION];
+    let mut v_d = [Dual::<T>::from_re(T::zero()); MAX_DIMENSION];
+    for (x, &qi) in q_d.iter_mut().zip(q) {
+        *x = Dual::from_re(qi);
+    }
+    for (v, &vi) in v_d.iter_mut().zip(q_dot) {
+        *v = Dual::new(vi, vi);
+    }
+    let n = q.len();
+    let l = model.lagrangian(&q_d[..n], &v_d[..n]);
+    l.eps - l.re
+}
+
+/// `M = ∂²L/∂q̇²`: from the model's compiled derivatives if it has them, else differentiated.
+pub(crate) fn mass_matrix<const N: usize, L: HybridLagrangian>(
+    model: &L,
+    q: &[f64],
+    q_dot: &[f64],
+) -> SMatrix<f64, N, N> {
+    match model
+        .compiled()
+        .and_then(|c| c.lagrangian_terms::<N>(q, q_dot))
+    {
+        Some(terms) => terms.mass,
+        None => mass_matrix_of::<f64, N, L>(model, q, q_dot),
+    }
+}
+
+/// `M` and the Euler–Lagrange force: compiled if the model has them, else differentiated.
+pub(crate) fn lagrangian_terms<const N: usize, L: HybridLagrangian>(
+    model: &L,
+    q: &[f64],
+    q_dot: &[f64],
+) -> LagrangianTerms<N> {
+    match model
+        .compiled()
+        .and_then(|c| c.lagrangian_terms::<N>(q, q_dot))
+    {
+        Some(terms) => terms,
+        None => lagrangian_terms_of::<f64, N, L>(model, q, q_dot),
+    }
+}
+
+/// `h`, `A`, `A q̇` and `Ȧ q̇` of constraint `index`: compiled or differentiated.
 pub(crate) fn constraint_terms<const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
     q: &[f64],
     q_dot: &[f64],
 ) -> ConstraintTerms<N> {
-    type Hd<const N: usize> = HyperDualVec<f64, Const<N>, U1>;
-    let q_d: [Hd<N>; N] = std::array::from_fn(|i| {
-        let mut x = Hd::<N>::from_re(q[i]);
-        x.eps1 = Derivative::derivative_generic(Const::<N>, U1, i);
-        x.eps2 = Derivative::some(SMatrix::<f64, 1, 1>::new(q_dot[i]));
-        x
-    });
-    let h = model.constraint(index, &q_d);
-    let hessian_q_dot = h.eps1eps2.unwrap_generic(Const::<N>, U1);
-    let v = SVector::<f64, N>::from_column_slice(&q_dot[..N]);
-    ConstraintTerms {
-        h: h.re,
-        gradient: h.eps1.unwrap_generic(Const::<N>, U1),
-        a_q_dot: h.eps2.unwrap_generic(U1, U1)[0],
-        a_dot_q_dot: hessian_q_dot.dot(&v),
-        hessian_q_dot_norm: hessian_q_dot.norm(),
+    match model
+        .compiled()
+        .and_then(|c| c.constraint_parts::<N>(index, q, q_dot))
+    {
+        Some(parts) => parts,
+        None => constraint_parts_of::<f64, N, L>(model, index, q, q_dot),
     }
+    .finish(q_dot)
 }
 
 /// `h`, `A q̇` and `Ȧ q̇` of constraint `index`, without the full gradient: the guard and its
-/// first two time derivatives along free flight, in one scalar second-order pass (any `n`).
+/// first two time derivatives along free flight (any `n`); compiled or differentiated.
 pub(crate) fn guard_along<L: HybridLagrangian>(
     model: &L,
     index: usize,
     q: &[f64],
     q_dot: &[f64],
 ) -> (f64, f64, f64) {
-    let mut q_d = [Dual2::<f64>::from_re(0.0); MAX_DIMENSION];
-    for ((x, &qi), &vi) in q_d.iter_mut().zip(q).zip(q_dot) {
-        *x = Dual2::new(qi, vi, 0.0);
+    match model
+        .compiled()
+        .and_then(|c| c.guard_along(index, q, q_dot))
+    {
+        Some(guard) => guard,
+        None => guard_along_of::<f64, L>(model, index, q, q_dot),
     }
-    let h = model.constraint(index, &q_d[..q.len()]);
-    (h.re, h.v1, h.v2)
 }
 
-/// The energy `q̇ᵀ ∂L/∂q̇ − L` (any `n`).
+/// The energy `q̇ᵀ ∂L/∂q̇ − L` (any `n`): compiled or differentiated.
 pub(crate) fn energy<L: HybridLagrangian>(model: &L, q: &[f64], q_dot: &[f64]) -> f64 {
-    let mut q_d = [Dual64::from_re(0.0); MAX_DIMENSION];
-    let mut v_d = [Dual64::from_re(0.0); MAX_DIMENSION];
-    for (x, &qi) in q_d.iter_mut().zip(q) {
-        *x = Dual64::from_re(qi);
+    match model.compiled().and_then(|c| c.energy(q, q_dot)) {
+        Some(e) => e,
+        None => energy_of::<f64, L>(model, q, q_dot),
     }
-    for (v, &vi) in v_d.iter_mut().zip(q_dot) {
-        *v = Dual64::new(vi, vi);
-    }
-    let n = q.len();
-    let l = model.lagrangian(&q_d[..n], &v_d[..n]);
-    l.eps - l.re
 }
 
 #[cfg(test)]
@@ -418,6 +517,110 @@ mod tests {
         }
     }
 
+    /// Bitwise equality, NaN included (a compiled part must give the very same numbers).
+    fn same_bits(what: &str, compiled: f64, differentiated: f64) -> Result<(), TestCaseError> {
+        prop_assert!(
+            compiled.to_bits() == differentiated.to_bits()
+                || (compiled == 0.0 && differentiated == 0.0),
+            "{what}: compiled {compiled:e}, differentiated {differentiated:e}"
+        );
+        Ok(())
+    }
+
+    /// Every compiled part of `model` against the differentiation it was traced from, bit for
+    /// bit (zeros of either sign are equal: the tracer may drop the sign of an exact zero).
+    fn check_compiled<const N: usize, L: HybridLagrangian>(
+        model: &L,
+        compiled: &crate::Compiled,
+        q: &[f64],
+        v: &[f64],
+    ) -> Result<(), TestCaseError> {
+        let terms = compiled.lagrangian_terms::<N>(q, v).expect("traced");
+        let reference = lagrangian_terms_of::<f64, N, L>(model, q, v);
+        for (k, (a, b)) in terms.mass.iter().zip(reference.mass.iter()).enumerate() {
+            same_bits(&format!("M[{k}]"), *a, *b)?;
+        }
+        for (k, (a, b)) in terms.force.iter().zip(reference.force.iter()).enumerate() {
+            same_bits(&format!("force[{k}]"), *a, *b)?;
+        }
+        for index in 0..model.constraints().len() {
+            let c = compiled.constraint_parts::<N>(index, q, v).expect("traced");
+            let r = constraint_parts_of::<f64, N, L>(model, index, q, v);
+            same_bits("h", c.h, r.h)?;
+            same_bits("A q̇", c.a_q_dot, r.a_q_dot)?;
+            for k in 0..N {
+                same_bits(&format!("A[{k}]"), c.gradient[k], r.gradient[k])?;
+                same_bits(
+                    &format!("∇²h q̇[{k}]"),
+                    c.hessian_q_dot[k],
+                    r.hessian_q_dot[k],
+                )?;
+            }
+            let g = compiled.guard_along(index, q, v).expect("traced");
+            let rg = guard_along_of::<f64, L>(model, index, q, v);
+            same_bits("guard h", g.0, rg.0)?;
+            same_bits("guard ḣ", g.1, rg.1)?;
+            same_bits("guard ḧ", g.2, rg.2)?;
+        }
+        same_bits(
+            "energy",
+            compiled.energy(q, v).expect("traced"),
+            energy_of::<f64, L>(model, q, v),
+        )?;
+        Ok(())
+    }
+
+    /// A model whose constraint branches on a value (`abs`): that part cannot be traced.
+    struct Branching {
+        constraints: [Constraint; 1],
+    }
+
+    impl HybridLagrangian for Branching {
+        fn dimension(&self) -> usize {
+            1
+        }
+        fn lagrangian<D: Scalar>(&self, _q: &[D], v: &[D]) -> D {
+            v[0] * v[0] * 0.5
+        }
+        fn constraints(&self) -> &[Constraint] {
+            &self.constraints
+        }
+        fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
+            -q[0].abs() + 1.0
+        }
+    }
+
+    #[test]
+    fn a_branch_on_a_value_leaves_that_part_differentiated() {
+        let model = Branching {
+            constraints: [Constraint::new("wall", 0.5)],
+        };
+        let compiled = crate::Compiled::trace(&model);
+        // The Lagrangian terms and the energy traced; the constraint and its guard did not.
+        assert_eq!(compiled.coverage(), (2, 4));
+        assert!(compiled.constraint_parts::<1>(0, &[0.3], &[1.0]).is_none());
+        assert!(compiled.guard_along(0, &[0.3], &[1.0]).is_none());
+        assert!(compiled.lagrangian_terms::<1>(&[0.3], &[1.0]).is_some());
+        // The trace is over: an ordinary evaluation is unaffected.
+        assert!(!crate::Compiled::is_tracing());
+    }
+
+    #[test]
+    fn the_paper_ball_compiles_to_a_few_operations() {
+        let model = BallOnSine::paper().model;
+        let compiled = crate::Compiled::trace(&model);
+        assert_eq!(compiled.coverage(), (4, 4));
+        // M = m I and the force (0, 0, −m g) are constants: the Euler–Lagrange terms need no
+        // operation at all; h, A, ∇²h q̇ and the guard need a handful.
+        let terms = compiled.lagrangian_terms::<3>(&[0.1, 0.2, 0.3], &[1.0, 2.0, 3.0]);
+        assert!(terms.is_some());
+        assert!(
+            compiled.operations() < 40,
+            "{} operations",
+            compiled.operations()
+        );
+    }
+
     fn vec_in(range: std::ops::Range<f64>, n: usize) -> impl Strategy<Value = Vec<f64>> {
         prop::collection::vec(range, n)
     }
@@ -461,6 +664,29 @@ mod tests {
                 constraints: [Constraint::new("a", 0.5), Constraint::new("b", 0.5)],
             };
             check_model::<2, _>(&model, &q, &v)?;
+        }
+
+        /// The compiled derivatives of every example model, and of the coupled test model, are
+        /// the differentiated ones, bit for bit.
+        #[test]
+        fn compiled_derivatives_are_the_differentiated_ones(
+            q in vec_in(-3.0..3.0, 3),
+            v in vec_in(-3.0..3.0, 3),
+        ) {
+            let ball = BouncingBall::new(1.3, 9.81, 0.5);
+            check_compiled::<1, _>(&ball, &crate::Compiled::trace(&ball), &q[..1], &v[..1])?;
+            let sine = BallOnSine::paper().model;
+            check_compiled::<3, _>(&sine, &crate::Compiled::trace(&sine), &q, &v)?;
+            let cart = CartPendulum::demo().model;
+            check_compiled::<2, _>(&cart, &crate::Compiled::trace(&cart), &q[..2], &v[..2])?;
+            let sph = SphericalPendulum::demo().model;
+            check_compiled::<2, _>(&sph, &crate::Compiled::trace(&sph), &q[..2], &v[..2])?;
+            let coupled = Coupled {
+                constraints: [Constraint::new("a", 0.5), Constraint::new("b", 0.5)],
+            };
+            let compiled = crate::Compiled::trace(&coupled);
+            prop_assert_eq!(compiled.coverage(), (6, 6));
+            check_compiled::<2, _>(&coupled, &compiled, &q[..2], &v[..2])?;
         }
 
         /// Closed form for the paper's ball on the sinusoid (Example 6):

@@ -23,6 +23,7 @@
 //! - [`integrator::Stepper`]: the Runge–Kutta pairs (DOP853, DOPRI5) with dense output;
 //! - [`models`]: the paper's examples, written in Rust.
 
+mod compiled;
 mod derivatives;
 mod derived;
 mod error;
@@ -36,8 +37,10 @@ mod observer;
 mod options;
 mod runner;
 mod simulation;
+mod trace;
 mod zeno;
 
+pub use compiled::Compiled;
 pub use derivatives::MAX_DIMENSION;
 pub use derived::Derived;
 pub use error::Error;

@@ -2,6 +2,8 @@
 
 use num_dual::DualNum;
 
+use crate::compiled::Compiled;
+
 /// A number the model's functions are evaluated with: `f64`, or one of num-dual's dual numbers.
 ///
 /// Write `L` and `h` once, generic over `D: Scalar`; zenosim evaluates them over dual numbers to
@@ -66,5 +68,16 @@ pub trait HybridLagrangian {
     /// result onto `h = 0, A q̇ = 0` so that the constrained phase starts on the constraint.
     fn completion_map(&self, _index: usize, _q: &mut [f64], _q_dot: &mut [f64]) -> bool {
         false
+    }
+
+    /// The model's derivatives traced ahead of time, which zenosim then runs instead of
+    /// differentiating `lagrangian` and `constraint` at every step; `None` (the default)
+    /// differentiates.
+    ///
+    /// Worth it for a model whose functions are expensive over dual numbers (interpreted
+    /// formulas): build one [`Compiled::trace`] when the model is made and return it here. The
+    /// results are the same, bit for bit (up to the sign of a zero).
+    fn compiled(&self) -> Option<&Compiled> {
+        None
     }
 }

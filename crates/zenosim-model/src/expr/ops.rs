@@ -7,7 +7,7 @@
 //! round differently from the `f64` operation (27% of divisions do). Those operations therefore
 //! move num-dual's real part onto the `f64` value, see [`with_real_part`].
 
-use zenosim::Scalar;
+use zenosim::{Compiled, Scalar};
 
 /// An operation of the language, as the parser emits it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -110,7 +110,7 @@ impl Op {
     }
 }
 
-/// `y` with its real part set to `re`, the derivative parts unchanged.
+/// `y` with its real part set to `re()`, the derivative parts unchanged.
 ///
 /// `re` is the `f64` value of the operation that gave `y` and differs from `y`'s real part by a
 /// rounding at most, so their difference is exact (Sterbenz) and subtracting it lands exactly on
@@ -118,12 +118,15 @@ impl Op {
 /// `re` through a zero real part; if `y`'s real part is not even finite (`tanh(±∞)`, whose
 /// derivatives num-dual gets as NaN), the result is `re` with zero derivatives.
 #[inline]
-pub(crate) fn with_real_part<D: Scalar>(y: D, re: f64) -> D {
+pub(crate) fn with_real_part<D: Scalar>(y: D, re: impl FnOnce() -> f64) -> D {
     let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
-    // Over f64 (no derivatives) `y` was computed as `re` was: nothing to move.
-    if D::NDERIV == 0 {
+    // Over f64 (no derivatives) `y` was computed as `re` was: nothing to move. While zenosim
+    // traces the derivatives (`Compiled`), numbers have no values: num-dual's arithmetic is
+    // recorded as it is, as for a model written in Rust.
+    if D::NDERIV == 0 || Compiled::is_tracing() {
         return y;
     }
+    let re = re();
     let current = y.re();
     if same(current, re) {
         return y;
@@ -142,7 +145,7 @@ pub(crate) fn with_real_part<D: Scalar>(y: D, re: f64) -> D {
 /// `a / b`, with the real part `a.re / b.re`.
 #[inline(always)]
 pub(crate) fn div<D: Scalar>(a: D, b: D) -> D {
-    with_real_part(a / b, a.re() / b.re())
+    with_real_part(a / b, || a.re() / b.re())
 }
 
 /// `c / x`: the reciprocal scaled, with the real part `c / x.re`.
@@ -151,7 +154,7 @@ pub(crate) fn div_into<D: Scalar>(c: f64, x: D) -> D {
     if D::NDERIV == 0 {
         D::from(c) / x
     } else {
-        with_real_part(x.recip() * c, c / x.re())
+        with_real_part(x.recip() * c, || c / x.re())
     }
 }
 
@@ -164,17 +167,23 @@ pub(crate) fn sub_from<D: Scalar>(c: f64, x: D) -> D {
 /// `x^n`, `n` an integer: `powi`, exact for a negative `x`.
 #[inline(always)]
 pub(crate) fn powi<D: Scalar>(x: D, n: i32) -> D {
+    // num-dual's `powi` multiplies n(n − 1) as an `i32` for the second derivative, which
+    // overflows beyond this; `powf` of the same integer computes its factors as `f64`.
+    const LARGEST: u32 = 46_340;
     match n {
         // num-dual's own real parts are f64's here: 1, x, x·x, (x·x)·x.
         0..=3 => x.powi(n),
-        _ => with_real_part(x.powi(n), x.re().powi(n)),
+        _ if D::NDERIV == 0 || n.unsigned_abs() <= LARGEST => {
+            with_real_part(x.powi(n), || x.re().powi(n))
+        }
+        _ => with_real_part(x.powf(f64::from(n)), || x.re().powi(n)),
     }
 }
 
 /// `x^e`, `e` a constant that is not an integer: `powf`.
 #[inline(always)]
 pub(crate) fn powf<D: Scalar>(x: D, e: f64) -> D {
-    with_real_part(x.powf(e), x.re().powf(e))
+    with_real_part(x.powf(e), || x.re().powf(e))
 }
 
 /// `x^y` for a varying `y`: `exp(y ln x)`, over `f64` too (not `powf`), so that `f64` values are
@@ -186,12 +195,12 @@ pub(crate) fn pow<D: Scalar>(x: D, y: D) -> D {
 
 #[inline(always)]
 fn tan<D: Scalar>(x: D) -> D {
-    with_real_part(x.tan(), x.re().tan())
+    with_real_part(x.tan(), || x.re().tan())
 }
 
 #[inline(always)]
 fn tanh<D: Scalar>(x: D) -> D {
-    with_real_part(x.tanh(), x.re().tanh())
+    with_real_part(x.tanh(), || x.re().tanh())
 }
 
 /// The smaller by real part, derivatives included; a tie keeps `a`, a NaN is propagated.

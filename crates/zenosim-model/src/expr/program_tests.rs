@@ -448,22 +448,34 @@ fn real_parts_are_the_f64_values_where_num_dual_rounds_differently() {
     );
 }
 
+/// num-dual's `powi` would multiply n(n − 1) as an `i32` (overflow: a panic in a debug build,
+/// a wrong second derivative in a release one); such powers go through `powf`.
+#[test]
+fn a_huge_integer_power_has_its_derivatives() {
+    let n = 100_000.0;
+    let h = compile("x^100000").eval(&[HyperDual64::new(1.0, 1.0, 1.0, 0.0)]);
+    // At x = 1: x^n = 1, n x^(n−1) = n, n(n−1) x^(n−2) = n(n−1), all exact.
+    assert_eq!(hyper_parts(h), [1.0, n, n, n * (n - 1.0)]);
+    let h = compile("x^(-100000)").eval(&[HyperDual64::new(1.0, 1.0, 1.0, 0.0)]);
+    assert_eq!(hyper_parts(h), [1.0, -n, -n, n * (n + 1.0)]);
+}
+
 #[test]
 fn with_real_part_moves_only_the_real_part() {
     let y = HyperDual64::new(1.0 + f64::EPSILON, 2.0, 3.0, 4.0);
     assert_eq!(
-        hyper_parts(ops::with_real_part(y, 1.0)),
+        hyper_parts(ops::with_real_part(y, || 1.0)),
         [1.0, 2.0, 3.0, 4.0]
     );
     let y = HyperDual64::new(f64::MAX, 2.0, 3.0, 4.0);
     assert_eq!(
-        hyper_parts(ops::with_real_part(y, f64::INFINITY)),
+        hyper_parts(ops::with_real_part(y, || f64::INFINITY)),
         [f64::INFINITY, 2.0, 3.0, 4.0]
     );
-    let nan = ops::with_real_part(y, f64::NAN);
+    let nan = ops::with_real_part(y, || f64::NAN);
     assert!(nan.re.is_nan() && nan.eps1 == 2.0);
     assert_eq!(
-        ops::with_real_part(5.0, 6.0),
+        ops::with_real_part(5.0, || 6.0),
         5.0,
         "f64 values are left alone"
     );

@@ -1,0 +1,175 @@
+//! What every chart shares: the frame (caption, margins, label areas), the axes, the legend
+//! (on the right of the plot, where it hides nothing), and text styles.
+
+use plotters::chart::{ChartBuilder, ChartContext};
+use plotters::coord::cartesian::Cartesian2d;
+use plotters::coord::ranged1d::{Ranged, ValueFormatter};
+use plotters::coord::{CoordTranslate, Shift};
+use plotters::prelude::{
+    Circle, Color, DrawingArea, IntoFont, PathElement, RGBColor, Rectangle, ShapeStyle, Text,
+    TextStyle, TriangleMarker, BLACK, WHITE,
+};
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters_backend::DrawingBackend;
+
+use super::canvas::{Drawn, FONT};
+use super::style::{tick, GRID, GRID_MINOR, LABEL_SIZE, TEXT_SIZE, TITLE_SIZE};
+use super::svg::Layer;
+
+/// The legend's space for an entry's sample, before its label.
+const SAMPLE_WIDTH: i32 = 30;
+/// The legend's inner margin.
+const LEGEND_MARGIN: i32 = 8;
+/// The gap between the plot and the legend.
+const LEGEND_GAP: i32 = 14;
+/// The least room kept for the legend, so that charts one above the other line up.
+const LEGEND_ROOM: i32 = 200;
+/// The height of a legend entry.
+const ENTRY_HEIGHT: i32 = TEXT_SIZE as i32 + 7;
+
+/// What a legend entry's sample looks like.
+#[derive(Clone, Copy, Debug)]
+pub enum Sample {
+    /// A line.
+    Line(ShapeStyle),
+    /// A circle of this radius.
+    Dot(ShapeStyle, u32),
+    /// A triangle.
+    Triangle(ShapeStyle),
+    /// A square.
+    Square(ShapeStyle),
+}
+
+/// A legend entry.
+#[derive(Clone, Debug)]
+pub struct Entry {
+    /// Its label.
+    pub label: String,
+    /// Its sample.
+    pub sample: Sample,
+}
+
+impl Entry {
+    /// The entry `label` with `sample`.
+    pub fn new(label: impl Into<String>, sample: Sample) -> Self {
+        Self {
+            label: label.into(),
+            sample,
+        }
+    }
+}
+
+/// The widest label of `entries` on `area`, in pixels.
+fn widest<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[Entry]) -> Option<i32> {
+    let style = TextStyle::from((FONT, TEXT_SIZE).into_font());
+    entries
+        .iter()
+        .map(|e| {
+            area.estimate_text_size(&e.label, &style)
+                .map_or(10 * e.label.chars().count() as u32, |size| size.0) as i32
+        })
+        .max()
+}
+
+/// A chart builder on `area` with `caption`, room for the axes' labels and, on the right, for
+/// the legend of `entries`.
+pub fn frame<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    entries: &[Entry],
+) -> ChartBuilder<'a, 'static, DB> {
+    let right = widest(area, entries).map_or(28, |w| {
+        LEGEND_ROOM.max(w + SAMPLE_WIDTH + 2 * LEGEND_MARGIN + LEGEND_GAP + 12)
+    });
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .caption(caption, (FONT, TITLE_SIZE))
+        .margin(12)
+        .margin_right(right)
+        .x_label_area_size(48)
+        .y_label_area_size(80);
+    builder
+}
+
+/// Draws the legend of `entries` on `area`, right of `chart`'s plot (in the room [`frame`] left
+/// for it), where it hides nothing.
+pub fn legend<DB: DrawingBackend, CT: CoordTranslate>(
+    area: &DrawingArea<DB, Shift>,
+    chart: &ChartContext<'_, DB, CT>,
+    layer: &Layer,
+    entries: &[Entry],
+) -> Drawn<DB> {
+    let Some(width) = widest(area, entries) else {
+        return Ok(());
+    };
+    layer.set("legend", "");
+    let plot = chart.plotting_area();
+    let (base, origin) = (area.get_base_pixel(), plot.get_base_pixel());
+    let x = origin.0 - base.0 + plot.dim_in_pixel().0 as i32 + LEGEND_GAP;
+    let y = origin.1 - base.1;
+    let (w, h) = (
+        width + SAMPLE_WIDTH + 2 * LEGEND_MARGIN,
+        ENTRY_HEIGHT * entries.len() as i32 + 2 * LEGEND_MARGIN,
+    );
+    area.draw(&Rectangle::new([(x, y), (x + w, y + h)], WHITE.filled()))?;
+    area.draw(&Rectangle::new(
+        [(x, y), (x + w, y + h)],
+        RGBColor(190, 190, 190).stroke_width(1),
+    ))?;
+    for (k, entry) in entries.iter().enumerate() {
+        let cy = y + LEGEND_MARGIN + ENTRY_HEIGHT * k as i32 + ENTRY_HEIGHT / 2;
+        let cx = x + LEGEND_MARGIN + SAMPLE_WIDTH / 2 - 2;
+        match entry.sample {
+            Sample::Line(style) => {
+                area.draw(&PathElement::new(vec![(cx - 11, cy), (cx + 11, cy)], style))?
+            }
+            Sample::Dot(style, r) => area.draw(&Circle::new((cx, cy), r, style))?,
+            Sample::Triangle(style) => area.draw(&TriangleMarker::new((cx, cy), 6, style))?,
+            Sample::Square(style) => {
+                area.draw(&Rectangle::new([(cx - 5, cy - 5), (cx + 5, cy + 5)], style))?
+            }
+        }
+        area.draw(&Text::new(
+            entry.label.clone(),
+            (x + LEGEND_MARGIN + SAMPLE_WIDTH, cy),
+            note(BLACK, HPos::Left, VPos::Center),
+        ))?;
+    }
+    Ok(())
+}
+
+/// Draws the grid, the axes, their tick labels and their descriptions.
+pub fn axes<DB, X, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
+    layer: &Layer,
+    x_desc: &str,
+    y_desc: &str,
+) -> Drawn<DB>
+where
+    DB: DrawingBackend,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    layer.set("axes", "");
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .axis_desc_style((FONT, LABEL_SIZE))
+        .label_style((FONT, TEXT_SIZE))
+        .bold_line_style(GRID)
+        .light_line_style(GRID_MINOR)
+        .x_labels(10)
+        .y_labels(8)
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
+        .draw()
+}
+
+/// Notes and labels: the text size in `color`, anchored at `h`, `v`.
+pub fn note(color: RGBColor, h: HPos, v: VPos) -> TextStyle<'static> {
+    (FONT, super::style::TEXT_SIZE)
+        .into_font()
+        .color(&color)
+        .pos(Pos::new(h, v))
+}

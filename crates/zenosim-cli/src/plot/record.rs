@@ -1,0 +1,222 @@
+//! What the plots read of `summary.json`: the names, the events, the Zeno points, the time span
+//! and the constraints' formulas.
+
+use std::collections::HashMap;
+use std::fs::File;
+use std::io::BufReader;
+use std::path::Path;
+
+use anyhow::{anyhow, Context};
+use serde::Deserialize;
+use zenosim_model::expr::{Bindings, Expression};
+
+/// A run's record, as `summary.json` holds it (the fields the plots use).
+#[derive(Debug, Deserialize)]
+pub struct Record {
+    /// The model's name.
+    pub model: String,
+    /// `finished`, `zeno_stalled` or `failed`.
+    pub status: String,
+    /// The coordinates' names.
+    pub coordinates: Vec<String>,
+    /// The velocities' names.
+    pub velocities: Vec<String>,
+    /// The constraints' names.
+    pub constraints: Vec<String>,
+    /// The constraints' formulas `h`, by name (absent from summaries of older versions).
+    #[serde(default)]
+    pub h: HashMap<String, String>,
+    /// The constraints' restitutions, by name.
+    #[serde(default)]
+    pub restitutions: HashMap<String, Option<f64>>,
+    /// The parameters, by name.
+    #[serde(default)]
+    pub parameters: HashMap<String, Option<f64>>,
+    /// The run's settings.
+    pub settings: SettingsRecord,
+    /// Where the run ended.
+    #[serde(rename = "final")]
+    pub final_: FinalRecord,
+    /// The Zeno points.
+    pub zeno: Vec<ZenoRecord>,
+    /// Every event, in time order.
+    pub events: Vec<EventRecord>,
+    /// The hybrid time domain.
+    pub intervals: Vec<IntervalRecord>,
+    /// The trajectory file's size.
+    pub trajectory: TrajectoryRecord,
+}
+
+/// The settings the plots use.
+#[derive(Debug, Deserialize)]
+pub struct SettingsRecord {
+    /// The stop time.
+    pub t_end: f64,
+}
+
+/// Where the run ended.
+#[derive(Debug, Deserialize)]
+pub struct FinalRecord {
+    /// When.
+    pub t: Option<f64>,
+}
+
+/// A Zeno point.
+#[derive(Debug, Deserialize)]
+pub struct ZenoRecord {
+    /// The constraint whose impacts accumulate.
+    pub constraint: String,
+    /// `genuine` or `chattering`.
+    pub kind: String,
+    /// The switch to the constrained motion (or the stop, when stalled).
+    pub t_switch: f64,
+    /// The estimate of `τ∞`.
+    pub t_zeno: Option<f64>,
+    /// The impacts of the sequence.
+    pub impacts: u64,
+    /// The ratio of successive flight times.
+    pub ratio: Option<f64>,
+    /// The state after `R∞` (the last state, when stalled).
+    pub point: StateRecord,
+}
+
+/// An event.
+#[derive(Debug, Deserialize)]
+pub struct EventRecord {
+    /// `impact`, `zeno` or `liftoff`.
+    pub kind: String,
+    /// When.
+    pub t: f64,
+    /// The constraint involved.
+    pub constraint: String,
+    /// The state just before.
+    pub before: StateRecord,
+}
+
+/// A state; `null` stands for a non-finite number.
+#[derive(Debug, Deserialize)]
+pub struct StateRecord {
+    /// The configuration.
+    pub q: Vec<Option<f64>>,
+    /// The velocities.
+    pub q_dot: Vec<Option<f64>>,
+}
+
+impl StateRecord {
+    /// Value `column` of `(q, q̇)`, `NaN` if absent.
+    pub fn value(&self, column: usize) -> f64 {
+        let n = self.q.len();
+        let value = if column < n {
+            self.q.get(column)
+        } else {
+            self.q_dot.get(column - n)
+        };
+        value.copied().flatten().unwrap_or(f64::NAN)
+    }
+}
+
+/// An interval of the hybrid time domain.
+#[derive(Debug, Deserialize)]
+pub struct IntervalRecord {
+    /// Its start.
+    pub start: Option<f64>,
+}
+
+/// The trajectory file.
+#[derive(Debug, Deserialize)]
+pub struct TrajectoryRecord {
+    /// Its data rows.
+    pub rows: u64,
+}
+
+impl Record {
+    /// Reads `path`; errors name the file and the line and column.
+    pub fn read(path: &Path) -> anyhow::Result<Self> {
+        let display = path.display();
+        let file = File::open(path).with_context(|| {
+            format!(
+                "cannot read {display}: plot a directory that `zenosim run` wrote (it writes \
+                 summary.json last, once the run is complete)"
+            )
+        })?;
+        let record: Self = serde_json::from_reader(BufReader::new(file)).map_err(|error| {
+            let text = error.to_string();
+            let message = text.rfind(" at line ").map_or(&*text, |end| &text[..end]);
+            anyhow!(
+                "{display}:{}:{}: {message}; is it a summary.json written by `zenosim run`?",
+                error.line(),
+                error.column()
+            )
+        })?;
+        record.check().map_err(|problem| {
+            anyhow!("{display}: {problem}; run the model again to write a new one")
+        })?;
+        Ok(record)
+    }
+
+    /// The consistency the plots rely on.
+    fn check(&self) -> Result<(), String> {
+        let n = self.coordinates.len();
+        if n == 0 || self.velocities.len() != n {
+            return Err(format!(
+                "{n} coordinates and {} velocities: expected as many of each, at least one",
+                self.velocities.len()
+            ));
+        }
+        if !self.settings.t_end.is_finite() {
+            return Err("settings.t_end is not a number".to_string());
+        }
+        let t = self.events.iter().map(|e| e.t);
+        let times: Vec<f64> = t.chain(self.zeno.iter().map(|z| z.t_switch)).collect();
+        if let Some(bad) = times.iter().find(|t| !t.is_finite()) {
+            return Err(format!("an event time is {bad}"));
+        }
+        if self.events.windows(2).any(|w| w[1].t < w[0].t) {
+            return Err("the events are not in time order".to_string());
+        }
+        Ok(())
+    }
+
+    /// The plotted span of time: from the start to the stop time (or the end, if later).
+    pub fn time_span(&self) -> (f64, f64) {
+        let start = self
+            .intervals
+            .first()
+            .and_then(|i| i.start)
+            .filter(|t| t.is_finite())
+            .unwrap_or(0.0);
+        let end = self.final_.t.filter(|t| t.is_finite()).unwrap_or(start);
+        (start, self.settings.t_end.max(end))
+    }
+
+    /// The coordinates and velocities: the columns of `(q, q̇)`.
+    pub fn columns(&self) -> impl Iterator<Item = &String> {
+        self.coordinates.iter().chain(&self.velocities)
+    }
+
+    /// The times of the events of `kind`.
+    pub fn times(&self, kind: &str) -> Vec<f64> {
+        self.events
+            .iter()
+            .filter(|e| e.kind == kind)
+            .map(|e| e.t)
+            .collect()
+    }
+
+    /// Whether the run stopped at its last Zeno point (`--zeno off`) rather than passing it.
+    pub fn stalled(&self) -> bool {
+        self.status == "zeno_stalled"
+    }
+
+    /// Constraint `name`'s function `h(q)`, compiled with the run's parameters; `None` when the
+    /// summary does not hold it (or it does not compile).
+    pub fn constraint_function(&self, name: &str) -> Option<Expression> {
+        let source = self.h.get(name)?;
+        let slots = self.coordinates.iter().enumerate().map(|(i, c)| (c, i));
+        let constants = self
+            .parameters
+            .iter()
+            .filter_map(|(p, v)| v.map(|v| (p.clone(), v)));
+        Expression::parse(source, &Bindings::from_parts(slots, constants)).ok()
+    }
+}

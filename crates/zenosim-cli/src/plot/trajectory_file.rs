@@ -1,0 +1,233 @@
+//! Reading `trajectory.csv` back, row by row, into decimated lines: a run of any length is read
+//! in constant memory.
+//!
+//! Rows further apart than a pixel column (a run with long steps, or `--dt`) are joined along
+//! the cubic through both rows' `q` and `q̇` (Hermite interpolation), its derivative for the
+//! velocities: exact for a free flight under constant gravity (a parabola), third order
+//! otherwise, where a straight chord would cut through the constraint's surface. The energy is
+//! joined by a straight line. The two rows of an event, at the same time, are not joined.
+
+use std::fs::File;
+use std::path::Path;
+
+use anyhow::{anyhow, bail, Context};
+
+use super::decimate::{Bounds, PathDecimator, TimeDecimator};
+use super::record::Record;
+
+/// Columns of the time axis kept per series: twice the widest plot's pixels.
+const TIME_COLUMNS: usize = 2048;
+/// Cells across the plane plot's box: about twice its pixels.
+const PLANE_CELLS: usize = 1600;
+/// The most points drawn between two rows.
+const MAX_BETWEEN: usize = 64;
+
+/// The trajectory, decimated for drawing.
+pub struct Trajectory {
+    /// The series `q`, `q̇` (in the summary's order), then the energy: `(t, value)` points.
+    pub lines: Vec<Vec<(f64, f64)>>,
+    /// Each series' least and greatest values.
+    pub ranges: Vec<Option<(f64, f64)>>,
+    /// The path in the plane of two columns of `(q, q̇)`.
+    pub path: Vec<(f64, f64)>,
+    /// The path's bounding box.
+    pub path_bounds: Option<Bounds>,
+}
+
+/// Reads the trajectory at `path` of the run `record`, with the plane of columns `plane`.
+/// Errors name the file and the line.
+pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Result<Trajectory> {
+    let display = path.display();
+    let file = File::open(path).with_context(|| format!("cannot read {display}"))?;
+    let mut csv = csv::ReaderBuilder::new()
+        .buffer_capacity(1 << 16)
+        .from_reader(file);
+    let header = csv
+        .byte_headers()
+        .map_err(|error| anyhow!("{display}:1: {error}"))?
+        .clone();
+    let names = check_header(&header, record).map_err(|problem| {
+        anyhow!(
+            "{display}:1: {problem}: this trajectory does not belong to the summary.json beside \
+             it; run the model again"
+        )
+    })?;
+    let n = record.coordinates.len();
+    let energy = header.len() - 1;
+    let (t_start, t_end) = record.time_span();
+    let mut lines = TimeDecimator::new(2 * n + 1, t_start, t_end, TIME_COLUMNS);
+    let mut plane_path = PathDecimator::new(PLANE_CELLS);
+    let mut row = csv::ByteRecord::new();
+    let mut values = vec![0.0; 2 * n + 1];
+    let mut previous: Option<(f64, Vec<f64>)> = None;
+    let mut between = vec![0.0; 2 * n + 1];
+    let column = (t_end - t_start) / TIME_COLUMNS as f64;
+    let mut rows = 0;
+    loop {
+        match csv.read_byte_record(&mut row) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(error) => {
+                let line = error.position().map_or(0, |p| p.line());
+                bail!("{display}:{line}: {}", csv_problem(&error));
+            }
+        }
+        let line = row.position().map_or(0, |p| p.line());
+        let field = |column: usize| {
+            let text = &row[column];
+            std::str::from_utf8(text)
+                .ok()
+                .and_then(|s| s.parse::<f64>().ok())
+                .ok_or_else(|| {
+                    anyhow!(
+                        "{display}:{line}: column {}: `{}` is not a number",
+                        names[column],
+                        String::from_utf8_lossy(text)
+                    )
+                })
+        };
+        let t = field(0)?;
+        for (k, value) in values.iter_mut().enumerate() {
+            *value = field(if k < 2 * n { 2 + k } else { energy })?;
+        }
+        rows += 1;
+        if let Some((t0, before)) = &previous {
+            let gap = t - t0;
+            if gap > column {
+                let steps = ((gap / column).ceil() as usize).min(MAX_BETWEEN);
+                for j in 1..steps {
+                    let s = j as f64 / steps as f64;
+                    hermite(before, &values, gap, s, &mut between);
+                    lines.push(t0 + s * gap, &between);
+                    plane_path.push(between[plane.0], between[plane.1]);
+                }
+            }
+        }
+        lines.push(t, &values);
+        plane_path.push(values[plane.0], values[plane.1]);
+        match &mut previous {
+            Some((t0, before)) => {
+                *t0 = t;
+                before.copy_from_slice(&values);
+            }
+            None => previous = Some((t, values.clone())),
+        }
+    }
+    if rows != record.trajectory.rows {
+        bail!(
+            "{display}: {rows} rows, but summary.json counts {}: the files do not belong \
+             together; run the model again",
+            record.trajectory.rows
+        );
+    }
+    Ok(Trajectory {
+        lines: (0..=2 * n).map(|s| lines.series(s)).collect(),
+        ranges: (0..=2 * n).map(|s| lines.range(s)).collect(),
+        path_bounds: plane_path.bounds(),
+        path: plane_path.finish(),
+    })
+}
+
+/// The point a fraction `s` of the way from row `a` to row `b`, `h` apart in time: each
+/// coordinate on the cubic with `a`'s and `b`'s values and velocities, each velocity its
+/// derivative; the last value (the energy) on the straight line. Rows are `q…, q̇…, energy`.
+fn hermite(a: &[f64], b: &[f64], h: f64, s: f64, out: &mut [f64]) {
+    let n = a.len() / 2;
+    let (s2, s3) = (s * s, s * s * s);
+    // The cubic Hermite basis and its derivatives in s.
+    let (h00, h10, h01, h11) = (
+        2.0 * s3 - 3.0 * s2 + 1.0,
+        s3 - 2.0 * s2 + s,
+        3.0 * s2 - 2.0 * s3,
+        s3 - s2,
+    );
+    let (d00, d10, d01, d11) = (
+        6.0 * s2 - 6.0 * s,
+        3.0 * s2 - 4.0 * s + 1.0,
+        6.0 * s - 6.0 * s2,
+        3.0 * s2 - 2.0 * s,
+    );
+    for i in 0..n {
+        let (q0, q1, v0, v1) = (a[i], b[i], a[n + i], b[n + i]);
+        out[i] = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1;
+        out[n + i] = (d00 * q0 + d01 * q1) / h + d10 * v0 + d11 * v1;
+    }
+    out[2 * n] = a[2 * n] + s * (b[2 * n] - a[2 * n]);
+}
+
+/// The header's names, checked against the summary's: `t, mode, q…, q̇…, h_…, λ_…, energy`.
+fn check_header(header: &csv::ByteRecord, record: &Record) -> Result<Vec<String>, String> {
+    let names: Vec<String> = header
+        .iter()
+        .map(|name| String::from_utf8_lossy(name).into_owned())
+        .collect();
+    let m = record.constraints.len();
+    let expected: Vec<String> = ["t", "mode"]
+        .into_iter()
+        .map(str::to_string)
+        .chain(record.columns().cloned())
+        .chain(record.constraints.iter().map(|c| format!("h_{c}")))
+        .chain(record.constraints.iter().map(|c| format!("lambda_{c}")))
+        .chain(["energy".to_string()])
+        .collect();
+    if names != expected {
+        return Err(format!(
+            "the header is `{}`, expected `{}` for {} coordinates and {m} constraints",
+            names.join(","),
+            expected.join(","),
+            record.coordinates.len()
+        ));
+    }
+    Ok(names)
+}
+
+/// What is wrong with a row, in words.
+fn csv_problem(error: &csv::Error) -> String {
+    match error.kind() {
+        csv::ErrorKind::UnequalLengths {
+            expected_len, len, ..
+        } => format!("{len} fields, where the header has {expected_len}"),
+        csv::ErrorKind::Utf8 { .. } => "the row is not valid UTF-8".to_string(),
+        csv::ErrorKind::Io(error) => format!("cannot read the file: {error}"),
+        _ => error.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_free_flight_is_joined_exactly() {
+        // x = x0 + v0 t − g t²/2, v = v0 − g t; y moves at a constant speed.
+        let (g, x0, v0) = (9.81, 2.0, 1.5);
+        let row = |t: f64| {
+            vec![
+                x0 + v0 * t - 0.5 * g * t * t,
+                3.0 + 0.5 * t,
+                v0 - g * t,
+                0.5,
+                7.0 + t,
+            ]
+        };
+        let (t0, t1) = (0.1, 0.9);
+        let mut out = vec![0.0; 5];
+        for s in [0.0, 0.25, 0.5, 0.9, 1.0] {
+            hermite(&row(t0), &row(t1), t1 - t0, s, &mut out);
+            let exact = row(t0 + s * (t1 - t0));
+            for (k, (a, b)) in out.iter().zip(&exact).enumerate() {
+                assert!((a - b).abs() < 1e-12, "s = {s}, value {k}: {a} vs {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_smooth_motion_is_joined_to_third_order() {
+        // x = sin t over a step of 0.2: the cubic errs by about h⁴/384.
+        let row = |t: f64| vec![t.sin(), t.cos(), 0.0];
+        let mut out = vec![0.0; 3];
+        hermite(&row(1.0), &row(1.2), 0.2, 0.5, &mut out);
+        assert!((out[0] - 1.1_f64.sin()).abs() < 1e-5, "{}", out[0]);
+        assert!((out[1] - 1.1_f64.cos()).abs() < 1e-3, "{}", out[1]);
+    }
+}

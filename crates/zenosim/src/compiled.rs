@@ -1,0 +1,441 @@
+//! A model's derivatives traced once into straight-line `f64` programs.
+//!
+//! zenosim differentiates `L` and `h` by evaluating them over dual numbers, a dozen times per
+//! right-hand side. For a model whose `L` and `h` are cheap to inline (Rust code) that is fast;
+//! for one that is interpreted (a model file) each evaluation pays the interpreter again.
+//! [`Compiled::trace`] instead runs zenosim's own differentiation once over a traced number
+//! ([`crate::trace`]), which records every `f64` operation the dual numbers perform, and keeps
+//! what the outputs need as a program. Running it gives the same numbers, bit for bit, as the
+//! differentiation it was traced from, up to the sign of a zero; see [`crate::trace`] for the
+//! simplifications and why they cannot change a result otherwise.
+
+use crate::derivatives::{
+    constraint_parts_of, energy_of, guard_along_of, lagrangian_terms_of, with_dimension,
+    ConstraintParts, LagrangianTerms, MAX_DIMENSION,
+};
+use crate::model::HybridLagrangian;
+use crate::trace::{self, Bin, Node, Sym, Tape, Term, Un};
+use nalgebra::{SMatrix, SVector};
+
+/// One instruction; its result goes to the next register.
+#[derive(Clone, Copy, Debug)]
+enum Step {
+    Add(u32, u32),
+    Sub(u32, u32),
+    Mul(u32, u32),
+    Neg(u32),
+    Un(Un, u32),
+    Bin(Bin, u32, u32),
+    MulAdd(u32, u32, u32),
+    /// `sin` into this register and `cos` into the next (one libm call, as num-dual's `f64`
+    /// code gets): the next step is [`Step::Taken`].
+    SinCos(u32),
+    /// The register [`Step::SinCos`] filled.
+    Taken,
+}
+
+/// A straight-line program of `f64` operations.
+///
+/// Registers: the inputs `q` then `q̇` (`2n`), the constants, then one per step.
+#[derive(Clone, Debug)]
+struct Program {
+    inputs: usize,
+    constants: Box<[f64]>,
+    steps: Box<[Step]>,
+    outputs: Box<[u32]>,
+    /// Registers that must be finite for the outputs to be the dual numbers' (the values that
+    /// products with a structural zero dropped).
+    finite: Box<[u32]>,
+    /// Registers that must not be zero for the outputs to be the dual numbers' (possibly
+    /// mis-signed zeros that a sign-sensitive operation takes).
+    nonzero: Box<[u32]>,
+}
+
+/// The outputs of one run of a [`Program`].
+struct Outputs<'a> {
+    registers: &'a [f64],
+    index: &'a [u32],
+}
+
+impl Outputs<'_> {
+    /// Output `k`.
+    #[inline(always)]
+    fn get(&self, k: usize) -> f64 {
+        self.registers[self.index[k] as usize]
+    }
+}
+
+impl Program {
+    /// Traces `f` over `inputs` traced inputs into a program computing its outputs; `None` when
+    /// `f` cannot be traced.
+    fn trace(inputs: usize, f: impl FnOnce(&[Sym]) -> Vec<Sym>) -> Option<Program> {
+        let (tape, outputs) = trace::trace(inputs, f)?;
+        Some(Program::from_tape(&tape, inputs, &outputs))
+    }
+
+    /// Keeps the entries of `tape` that `outputs` depend on, in order.
+    fn from_tape(tape: &Tape, inputs: usize, outputs: &[Sym]) -> Program {
+        let nodes = &tape.nodes;
+        let mut live = vec![false; nodes.len()];
+        for out in outputs {
+            if let Term::Node(id) = out.term {
+                live[id as usize] = true;
+            }
+        }
+        let witnesses = |list: &[u32]| {
+            let mut list = list.to_vec();
+            list.sort_unstable();
+            list.dedup();
+            list
+        };
+        let (finite, nonzero) = (witnesses(&tape.witnesses), witnesses(&tape.nonzero));
+        for &id in finite.iter().chain(&nonzero) {
+            live[id as usize] = true;
+        }
+        for id in (0..nodes.len()).rev() {
+            if !live[id] {
+                continue;
+            }
+            match nodes[id] {
+                Node::Input(_) | Node::Const(_) => {}
+                Node::Un(_, a) => live[a as usize] = true,
+                Node::Bin(_, a, b) => {
+                    live[a as usize] = true;
+                    live[b as usize] = true;
+                }
+                Node::MulAdd(a, b, c) => {
+                    live[a as usize] = true;
+                    live[b as usize] = true;
+                    live[c as usize] = true;
+                }
+            }
+        }
+
+        // Registers: inputs by their number, then the live constants (and constant outputs),
+        // then the live operations.
+        let mut register = vec![u32::MAX; nodes.len()];
+        let mut constants = Vec::new();
+        for (id, node) in nodes.iter().enumerate() {
+            match *node {
+                Node::Input(k) => register[id] = k,
+                Node::Const(bits) if live[id] => {
+                    register[id] = (inputs + constants.len()) as u32;
+                    constants.push(f64::from_bits(bits));
+                }
+                _ => {}
+            }
+        }
+        let mut output_registers = vec![0u32; outputs.len()];
+        for (k, out) in outputs.iter().enumerate() {
+            if let Term::Const(c) = out.term {
+                output_registers[k] = (inputs + constants.len()) as u32;
+                constants.push(c);
+            }
+        }
+        let base = inputs + constants.len();
+        let live_partner = |id: usize, partner: Un, a: u32| {
+            tape.id_of(Node::Un(partner, a))
+                .filter(|&p| live[p as usize] && p as usize != id)
+        };
+        let mut steps = Vec::new();
+        for (id, node) in nodes.iter().enumerate() {
+            if !live[id] || register[id] != u32::MAX {
+                continue;
+            }
+            let r = |x: u32| register[x as usize];
+            let here = (base + steps.len()) as u32;
+            let step = match *node {
+                Node::Input(_) | Node::Const(_) => continue,
+                Node::Un(op @ (Un::Sin | Un::Cos), a) => {
+                    let partner = if op == Un::Sin { Un::Cos } else { Un::Sin };
+                    match live_partner(id, partner, a) {
+                        Some(p) => {
+                            let (sin, cos) = if op == Un::Sin {
+                                (id, p as usize)
+                            } else {
+                                (p as usize, id)
+                            };
+                            let step = Step::SinCos(r(a));
+                            register[sin] = here;
+                            register[cos] = here + 1;
+                            steps.push(step);
+                            steps.push(Step::Taken);
+                            continue;
+                        }
+                        None => Step::Un(op, r(a)),
+                    }
+                }
+                Node::Un(Un::Neg, a) => Step::Neg(r(a)),
+                Node::Un(op, a) => Step::Un(op, r(a)),
+                Node::Bin(Bin::Add, a, b) => Step::Add(r(a), r(b)),
+                Node::Bin(Bin::Sub, a, b) => Step::Sub(r(a), r(b)),
+                Node::Bin(Bin::Mul, a, b) => Step::Mul(r(a), r(b)),
+                Node::Bin(op, a, b) => Step::Bin(op, r(a), r(b)),
+                Node::MulAdd(a, b, c) => Step::MulAdd(r(a), r(b), r(c)),
+            };
+            register[id] = here;
+            steps.push(step);
+        }
+        for (k, out) in outputs.iter().enumerate() {
+            if let Term::Node(id) = out.term {
+                output_registers[k] = register[id as usize];
+            }
+        }
+        let registers = |ids: &[u32]| -> Box<[u32]> {
+            let mut list: Vec<u32> = ids.iter().map(|&id| register[id as usize]).collect();
+            list.sort_unstable();
+            list.dedup();
+            list.into()
+        };
+        Program {
+            inputs,
+            constants: constants.into(),
+            steps: steps.into(),
+            outputs: output_registers.into(),
+            finite: registers(&finite),
+            nonzero: registers(&nonzero),
+        }
+    }
+
+    fn registers(&self) -> usize {
+        self.inputs + self.constants.len() + self.steps.len()
+    }
+
+    /// Runs the program on `(q, q̇)` and hands its outputs to `read`; `None` when a witness says
+    /// the dual numbers would not give these outputs here (the caller uses them instead).
+    #[inline]
+    fn run<R>(&self, q: &[f64], q_dot: &[f64], read: impl FnOnce(&Outputs) -> R) -> Option<R> {
+        // Registers on the stack for the sizes models have; the heap beyond.
+        match self.registers() {
+            len @ 0..=16 => self.run_in(&mut [0.0; 16][..len], q, q_dot, read),
+            len @ 17..=64 => self.run_in(&mut [0.0; 64][..len], q, q_dot, read),
+            len @ 65..=512 => self.run_in(&mut [0.0; 512][..len], q, q_dot, read),
+            len => self.run_in(&mut vec![0.0; len], q, q_dot, read),
+        }
+    }
+
+    #[inline(always)]
+    fn run_in<R>(
+        &self,
+        regs: &mut [f64],
+        q: &[f64],
+        q_dot: &[f64],
+        read: impl FnOnce(&Outputs) -> R,
+    ) -> Option<R> {
+        let n = q.len();
+        regs[..n].copy_from_slice(q);
+        regs[n..n + q_dot.len()].copy_from_slice(q_dot);
+        let base = self.inputs + self.constants.len();
+        regs[self.inputs..base].copy_from_slice(&self.constants);
+        for (i, step) in self.steps.iter().enumerate() {
+            let x = |k: u32| regs[k as usize];
+            regs[base + i] = match *step {
+                Step::Add(a, b) => x(a) + x(b),
+                Step::Sub(a, b) => x(a) - x(b),
+                Step::Mul(a, b) => x(a) * x(b),
+                Step::Neg(a) => -x(a),
+                Step::Un(op, a) => op.apply(x(a)),
+                Step::Bin(op, a, b) => op.apply(x(a), x(b)),
+                Step::MulAdd(a, b, c) => x(a).mul_add(x(b), x(c)),
+                Step::SinCos(a) => {
+                    let (sin, cos) = x(a).sin_cos();
+                    regs[base + i + 1] = cos;
+                    sin
+                }
+                Step::Taken => continue,
+            };
+        }
+        let finite = self.finite.iter().all(|&w| regs[w as usize].is_finite());
+        let nonzero = self.nonzero.iter().all(|&w| regs[w as usize] != 0.0);
+        if !(finite && nonzero) {
+            return None;
+        }
+        Some(read(&Outputs {
+            registers: regs,
+            index: &self.outputs,
+        }))
+    }
+}
+
+/// A model's derivatives, traced once ([`Compiled::trace`]) into straight-line `f64` programs
+/// that zenosim runs instead of differentiating the model at every step.
+///
+/// A model returns it from [`HybridLagrangian::compiled`]. It pays off for a model whose
+/// functions are expensive to evaluate over dual numbers (an interpreted formula, as in a model
+/// file); a Rust model is usually as fast without, because the compiler already folds its dual
+/// numbers. The results are the same, bit for bit (up to the sign of a zero): where a value the
+/// programs simplified away is not finite, zenosim differentiates instead.
+///
+/// Each part (the Euler–Lagrange terms, each constraint's derivatives, each guard, the energy)
+/// is traced on its own. A part whose code branches on a value (`abs`, `min`, `max`, a
+/// comparison) cannot be traced; zenosim then differentiates that part as usual.
+#[derive(Clone, Debug)]
+pub struct Compiled {
+    dimension: usize,
+    /// The upper triangle of `M` by rows, then the force.
+    terms: Option<Program>,
+    /// Per constraint: `h`, `A`, `A q̇`, `∇²h q̇`.
+    constraints: Vec<Option<Program>>,
+    /// Per constraint: `h`, `ḣ`, `ḧ` along free flight.
+    guards: Vec<Option<Program>>,
+    energy: Option<Program>,
+}
+
+impl Compiled {
+    /// Traces `model`'s derivatives. A model of dimension 0 or above [`MAX_DIMENSION`] gets no
+    /// programs (the simulation refuses it anyway).
+    pub fn trace<L: HybridLagrangian>(model: &L) -> Compiled {
+        let n = model.dimension();
+        let count = model.constraints().len();
+        if n == 0 || n > MAX_DIMENSION {
+            return Compiled {
+                dimension: n,
+                terms: None,
+                constraints: vec![None; count],
+                guards: vec![None; count],
+                energy: None,
+            };
+        }
+        with_dimension!(n, N => Self::trace_n::<N, L>(model))
+    }
+
+    fn trace_n<const N: usize, L: HybridLagrangian>(model: &L) -> Compiled {
+        let count = model.constraints().len();
+        let terms = Program::trace(2 * N, |x| {
+            let t: LagrangianTerms<N, Sym> =
+                lagrangian_terms_of::<Sym, N, L>(model, &x[..N], &x[N..]);
+            let mut out = Vec::with_capacity(N * (N + 1) / 2 + N);
+            for i in 0..N {
+                for j in i..N {
+                    out.push(t.mass[(i, j)]);
+                }
+            }
+            out.extend(t.force.iter().copied());
+            out
+        });
+        let constraints = (0..count)
+            .map(|index| {
+                Program::trace(2 * N, |x| {
+                    let c = constraint_parts_of::<Sym, N, L>(model, index, &x[..N], &x[N..]);
+                    let mut out = vec![c.h];
+                    out.extend(c.gradient.iter().copied());
+                    out.push(c.a_q_dot);
+                    out.extend(c.hessian_q_dot.iter().copied());
+                    out
+                })
+            })
+            .collect();
+        let guards = (0..count)
+            .map(|index| {
+                Program::trace(2 * N, |x| {
+                    let (h, h_dot, h_ddot) =
+                        guard_along_of::<Sym, L>(model, index, &x[..N], &x[N..]);
+                    vec![h, h_dot, h_ddot]
+                })
+            })
+            .collect();
+        let energy = Program::trace(2 * N, |x| {
+            vec![energy_of::<Sym, L>(model, &x[..N], &x[N..])]
+        });
+        Compiled {
+            dimension: N,
+            terms,
+            constraints,
+            guards,
+            energy,
+        }
+    }
+
+    /// Whether a trace is running on this thread: the numbers a model's functions see are then
+    /// traced and have no values (asking for one makes that part untraceable). A function that
+    /// adjusts num-dual's results by their values (a model file keeps the real parts of dual
+    /// numbers equal to `f64` results) should leave num-dual's arithmetic alone while this holds.
+    pub fn is_tracing() -> bool {
+        trace::active()
+    }
+
+    /// How many of the parts were traced, and how many there are: the Euler–Lagrange terms, two
+    /// per constraint (its derivatives and its guard), and the energy.
+    pub fn coverage(&self) -> (usize, usize) {
+        let parts = [&self.terms, &self.energy]
+            .into_iter()
+            .chain(&self.constraints)
+            .chain(&self.guards);
+        let total = 2 + 2 * self.constraints.len();
+        (parts.filter(|p| p.is_some()).count(), total)
+    }
+
+    /// The number of `f64` operations of all programs together.
+    pub fn operations(&self) -> usize {
+        [&self.terms, &self.energy]
+            .into_iter()
+            .chain(&self.constraints)
+            .chain(&self.guards)
+            .flatten()
+            .map(|p| p.steps.len())
+            .sum()
+    }
+
+    /// `M` and the force at `(q, q̇)`, if traced for dimension `N`.
+    pub(crate) fn lagrangian_terms<const N: usize>(
+        &self,
+        q: &[f64],
+        q_dot: &[f64],
+    ) -> Option<LagrangianTerms<N>> {
+        let program = self.terms.as_ref().filter(|_| self.dimension == N)?;
+        program.run(q, q_dot, |out| {
+            let mut mass = SMatrix::<f64, N, N>::zeros();
+            let mut k = 0;
+            for i in 0..N {
+                for j in i..N {
+                    mass[(i, j)] = out.get(k);
+                    mass[(j, i)] = out.get(k);
+                    k += 1;
+                }
+            }
+            let force = SVector::<f64, N>::from_fn(|i, _| out.get(k + i));
+            LagrangianTerms { mass, force }
+        })
+    }
+
+    /// Constraint `index`'s derivatives at `(q, q̇)`, if traced for dimension `N`.
+    pub(crate) fn constraint_parts<const N: usize>(
+        &self,
+        index: usize,
+        q: &[f64],
+        q_dot: &[f64],
+    ) -> Option<ConstraintParts<N, f64>> {
+        let program = self
+            .constraints
+            .get(index)?
+            .as_ref()
+            .filter(|_| self.dimension == N)?;
+        program.run(q, q_dot, |out| ConstraintParts {
+            h: out.get(0),
+            gradient: SVector::<f64, N>::from_fn(|i, _| out.get(1 + i)),
+            a_q_dot: out.get(N + 1),
+            hessian_q_dot: SVector::<f64, N>::from_fn(|i, _| out.get(N + 2 + i)),
+        })
+    }
+
+    /// `h`, `ḣ`, `ḧ` of constraint `index` along free flight, if traced.
+    pub(crate) fn guard_along(
+        &self,
+        index: usize,
+        q: &[f64],
+        q_dot: &[f64],
+    ) -> Option<(f64, f64, f64)> {
+        let program = self
+            .guards
+            .get(index)?
+            .as_ref()
+            .filter(|_| q.len() == self.dimension)?;
+        program.run(q, q_dot, |out| (out.get(0), out.get(1), out.get(2)))
+    }
+
+    /// The energy at `(q, q̇)`, if traced.
+    pub(crate) fn energy(&self, q: &[f64], q_dot: &[f64]) -> Option<f64> {
+        let program = self.energy.as_ref().filter(|_| q.len() == self.dimension)?;
+        program.run(q, q_dot, |out| out.get(0))
+    }
+}
