@@ -43,6 +43,8 @@ mod error;
 pub mod expr;
 mod file_model;
 mod load;
+#[cfg(test)]
+mod property_tests;
 
 pub use error::{Location, ModelError};
 pub use file_model::FileModel;

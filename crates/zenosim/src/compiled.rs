@@ -299,7 +299,8 @@ impl Compiled {
         with_dimension!(n, N => Self::trace_n::<N, L>(model))
     }
 
-    fn trace_n<const N: usize, L: HybridLagrangian>(model: &L) -> Compiled {
+    /// [`Compiled::trace`] for a model of dimension `N` (the tests trace one `N` only).
+    pub(crate) fn trace_n<const N: usize, L: HybridLagrangian>(model: &L) -> Compiled {
         let count = model.constraints().len();
         let terms = Program::trace(2 * N, |x| {
             let t: LagrangianTerms<N, Sym> =

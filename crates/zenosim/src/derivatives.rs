@@ -595,7 +595,7 @@ mod tests {
         let model = Branching {
             constraints: [Constraint::new("wall", 0.5)],
         };
-        let compiled = crate::Compiled::trace(&model);
+        let compiled = crate::Compiled::trace_n::<1, _>(&model);
         // The Lagrangian terms and the energy traced; the constraint and its guard did not.
         assert_eq!(compiled.coverage(), (2, 4));
         assert!(compiled.constraint_parts::<1>(0, &[0.3], &[1.0]).is_none());
@@ -608,7 +608,7 @@ mod tests {
     #[test]
     fn the_paper_ball_compiles_to_a_few_operations() {
         let model = BallOnSine::paper().model;
-        let compiled = crate::Compiled::trace(&model);
+        let compiled = crate::Compiled::trace_n::<3, _>(&model);
         assert_eq!(compiled.coverage(), (4, 4));
         // M = m I and the force (0, 0, −m g) are constants: the Euler–Lagrange terms need no
         // operation at all; h, A, ∇²h q̇ and the guard need a handful.
@@ -674,17 +674,17 @@ mod tests {
             v in vec_in(-3.0..3.0, 3),
         ) {
             let ball = BouncingBall::new(1.3, 9.81, 0.5);
-            check_compiled::<1, _>(&ball, &crate::Compiled::trace(&ball), &q[..1], &v[..1])?;
+            check_compiled::<1, _>(&ball, &crate::Compiled::trace_n::<1, _>(&ball), &q[..1], &v[..1])?;
             let sine = BallOnSine::paper().model;
-            check_compiled::<3, _>(&sine, &crate::Compiled::trace(&sine), &q, &v)?;
+            check_compiled::<3, _>(&sine, &crate::Compiled::trace_n::<3, _>(&sine), &q, &v)?;
             let cart = CartPendulum::demo().model;
-            check_compiled::<2, _>(&cart, &crate::Compiled::trace(&cart), &q[..2], &v[..2])?;
+            check_compiled::<2, _>(&cart, &crate::Compiled::trace_n::<2, _>(&cart), &q[..2], &v[..2])?;
             let sph = SphericalPendulum::demo().model;
-            check_compiled::<2, _>(&sph, &crate::Compiled::trace(&sph), &q[..2], &v[..2])?;
+            check_compiled::<2, _>(&sph, &crate::Compiled::trace_n::<2, _>(&sph), &q[..2], &v[..2])?;
             let coupled = Coupled {
                 constraints: [Constraint::new("a", 0.5), Constraint::new("b", 0.5)],
             };
-            let compiled = crate::Compiled::trace(&coupled);
+            let compiled = crate::Compiled::trace_n::<2, _>(&coupled);
             prop_assert_eq!(compiled.coverage(), (6, 6));
             check_compiled::<2, _>(&coupled, &compiled, &q[..2], &v[..2])?;
         }

@@ -1,8 +1,11 @@
-//! Property tests: no input makes the parser panic, and well-formed expressions evaluate to what
-//! a direct recursive evaluation of the same tree gives.
+//! Property tests: no input makes the parser panic, well-formed expressions evaluate to what a
+//! direct recursive evaluation of the same tree gives, and their compiled derivatives are the
+//! differentiated ones. (Unit tests of the crate, so that they reuse its instantiation of the
+//! engine for `FileModel` instead of compiling another.)
 
+use crate::expr::{ExprError, Expression};
+use crate::FileModel;
 use proptest::prelude::*;
-use zenosim_model::expr::{ExprError, Expression};
 
 const NAMES: [&str; 3] = ["x", "y", "z"];
 const VALUES: [f64; 3] = [0.7, -1.3, 2.5];
@@ -256,39 +259,17 @@ proptest! {
 
 /// A three-coordinate model built from one random formula `t(x, y, z)`:
 /// `L = (ẋ² + ẏ ż) t + t` (so `M`, the force and the mixed term all involve `t`) and `h = t`,
-/// with or without its derivatives compiled.
-struct TreeModel {
-    lagrangian: Expression,
-    h: Expression,
-    constraints: [zenosim::Constraint; 1],
-    compiled: Option<zenosim::Compiled>,
-}
-
-impl zenosim::HybridLagrangian for TreeModel {
-    fn dimension(&self) -> usize {
-        3
-    }
-    fn lagrangian<D: zenosim::Scalar>(&self, q: &[D], q_dot: &[D]) -> D {
-        self.lagrangian.eval_split(q, q_dot)
-    }
-    fn constraints(&self) -> &[zenosim::Constraint] {
-        &self.constraints
-    }
-    fn constraint<D: zenosim::Scalar>(&self, _index: usize, q: &[D]) -> D {
-        self.h.eval(q)
-    }
-    fn compiled(&self) -> Option<&zenosim::Compiled> {
-        self.compiled.as_ref()
-    }
-}
-
-fn tree_model(t: &str, compile: bool) -> TreeModel {
+/// with or without its derivatives compiled. Built directly, not through a file: the formula
+/// need not make a valid model.
+fn tree_model(t: &str, compile: bool) -> FileModel {
     const STATE: [&str; 6] = ["x", "y", "z", "x_dot", "y_dot", "z_dot"];
     let lagrangian = format!("(x_dot^2 + y_dot*z_dot)*({t}) + ({t})");
-    let mut model = TreeModel {
+    let mut model = FileModel {
+        coordinates: NAMES.iter().map(|n| n.to_string()).collect(),
         lagrangian: Expression::parse(&lagrangian, &STATE).unwrap(),
-        h: Expression::parse(t, &NAMES).unwrap(),
-        constraints: [zenosim::Constraint::new("c", 0.5)],
+        constraints: vec![zenosim::Constraint::new("c", 0.5)],
+        h: vec![Expression::parse(t, &NAMES).unwrap()],
+        resets: vec![Vec::new()],
         compiled: None,
     };
     if compile {
@@ -320,7 +301,7 @@ proptest! {
         let t = tree.print();
         let fast = tree_model(&t, true);
         let slow = tree_model(&t, false);
-        let (traced, parts) = fast.compiled.as_ref().unwrap().coverage();
+        let (traced, parts) = fast.compiled_derivatives().unwrap().coverage();
         // Branches on values (abs, min, max) cannot be traced. Nor can an operation whose
         // result depends on the sign of a zero (atan2, a division, a power) of a zero constant
         // that a simplification may have signed otherwise than num-dual (`ln(0 * x)` needs
@@ -331,7 +312,7 @@ proptest! {
         }
         let exact = !["/", "^", "pow", "tanh"].iter().any(|op| t.contains(op));
         // Everything derived at (q, q̇), as a list of named numbers.
-        let derive_at = |model: &TreeModel, q: &[f64; 3]| {
+        let derive_at = |model: &FileModel, q: &[f64; 3]| {
             let d = zenosim::Derived::new(model).unwrap();
             let mut values = vec![("energy", d.energy(q, &v))];
             values.extend(d.mass_matrix(q, &v).0.into_iter().map(|m| ("M", m)));
