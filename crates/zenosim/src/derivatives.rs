@@ -1,23 +1,26 @@
 //! Exact derivatives of `L` and `h` by forward-mode automatic differentiation (num-dual).
 //!
-//! Every quantity the mechanics needs comes from one evaluation of `L` or `h` over a dual number
-//! whose size is known at compile time (`N` = number of coordinates), so nothing allocates:
-//! - `M = ∂²L/∂q̇²`: scalar hyper-duals, one per entry, seeded on `q̇_i` and `q̇_j`;
-//! - `(∂²L/∂q̇∂q) q̇`: scalar hyper-duals, one per row, `ε₁` on `q̇_i`, `ε₂` the direction `q̇` in `q`;
-//! - `∂L/∂q`: dual vector on `q`;
-//! - `A = ∂h/∂q`, `A q̇` and `Ȧ q̇ = q̇ᵀ∇²h q̇`: hyper-dual, `ε₁` on `q`, `ε₂` the direction `q̇`;
-//! - the energy `q̇ᵀ ∂L/∂q̇ − L`: a scalar dual in the direction `q̇` of `q̇`.
+//! Every quantity the mechanics needs comes from evaluations of `L` or `h` over scalar dual
+//! numbers, so nothing allocates and a model's functions are compiled for a few number types
+//! whatever its dimension (`N`, the number of coordinates, sizes only the arrays):
+//! - `M = ∂²L/∂q̇²`: hyper-duals, one pass per entry, seeded on `q̇_i` and `q̇_j`;
+//! - `(∂²L/∂q̇∂q) q̇`: hyper-duals, one pass per row, `ε₁` on `q̇_i`, `ε₂` the direction `q̇` in `q`;
+//! - `∂L/∂q`: duals, one pass per coordinate;
+//! - `A = ∂h/∂q`, `A q̇` and `Ȧ q̇ = q̇ᵀ∇²h q̇`: hyper-duals, one pass per coordinate, `ε₁` on
+//!   `q_i`, `ε₂` the direction `q̇`;
+//! - the energy `q̇ᵀ ∂L/∂q̇ − L`: a dual in the direction `q̇` of `q̇`.
 //!
 //! The runtime dimension is mapped to `N` by [`with_dimension!`] (up to [`MAX_DIMENSION`]).
 
 use crate::model::{HybridLagrangian, Scalar};
-use nalgebra::{Const, SMatrix, SVector, U1};
-use num_dual::{Derivative, Dual, Dual2, DualVec, HyperDual, HyperDualVec};
+use nalgebra::{SMatrix, SVector};
+use num_dual::{Dual, Dual2, HyperDual};
 
 /// The largest number of coordinates a model may have.
 ///
-/// Each dimension up to it is compiled separately for every model type (the derivatives are
-/// statically sized), so it bounds the build time: 20 took twice as long to build as 6.
+/// Each dimension up to it compiles the mechanics' statically sized linear algebra separately
+/// for every model type, so it bounds the build time (the model's own functions are compiled
+/// once per number type, whatever the dimension).
 pub const MAX_DIMENSION: usize = 10;
 
 /// Runs `$body` with `$N` a `const usize` equal to the runtime dimension `$n` (1..=10).
@@ -171,18 +174,14 @@ pub(crate) fn lagrangian_terms_of<T: Scalar, const N: usize, L: HybridLagrangian
         model.lagrangian(&q_along, &q_dot_d).eps1eps2
     });
 
-    // ∂L/∂q.
-    type Grad<T, const N: usize> = DualVec<T, Const<N>>;
-    let q_g: [Grad<T, N>; N] = std::array::from_fn(|i| {
-        let mut x = Grad::<T, N>::from_re(q[i]);
-        x.eps = Derivative::derivative_generic(Const::<N>, U1, i);
-        x
+    // ∂L/∂q: one scalar dual pass per coordinate. Scalar passes only, here and below: the
+    // model's functions are then compiled for a few number types whatever the dimension, where
+    // dual vectors made one copy per dimension (most of the build time of a model's crate).
+    let q_dot_g: [Dual<T>; N] = std::array::from_fn(|k| Dual::from_re(q_dot[k]));
+    let dl_dq: [T; N] = std::array::from_fn(|i| {
+        let q_g: [Dual<T>; N] = std::array::from_fn(|k| Dual::new(q[k], unit(k == i)));
+        model.lagrangian(&q_g, &q_dot_g).eps
     });
-    let q_dot_g: [Grad<T, N>; N] = std::array::from_fn(|i| Grad::<T, N>::from_re(q_dot[i]));
-    let dl_dq = model
-        .lagrangian(&q_g, &q_dot_g)
-        .eps
-        .unwrap_generic(Const::<N>, U1);
 
     LagrangianTerms {
         mass,
@@ -190,27 +189,24 @@ pub(crate) fn lagrangian_terms_of<T: Scalar, const N: usize, L: HybridLagrangian
     }
 }
 
-/// `h`, `A`, `A q̇` and `∇²h q̇` of constraint `index`, over any number type `T`: one pass over a
-/// hyper-dual vector, `ε₁` on `q`, `ε₂` the direction `q̇`.
+/// `h`, `A`, `A q̇` and `∇²h q̇` of constraint `index`, over any number type `T`: one scalar
+/// hyper-dual pass per coordinate, `ε₁` on `q_i`, `ε₂` the direction `q̇`.
 pub(crate) fn constraint_parts_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
     q: &[T],
     q_dot: &[T],
 ) -> ConstraintParts<N, T> {
-    type Hd<T, const N: usize> = HyperDualVec<T, Const<N>, U1>;
-    let q_d: [Hd<T, N>; N] = std::array::from_fn(|i| {
-        let mut x = Hd::<T, N>::from_re(q[i]);
-        x.eps1 = Derivative::derivative_generic(Const::<N>, U1, i);
-        x.eps2 = Derivative::some(SMatrix::<T, 1, 1>::new(q_dot[i]));
-        x
+    let passes: [HyperDual<T>; N] = std::array::from_fn(|i| {
+        let q_d: [HyperDual<T>; N] =
+            std::array::from_fn(|k| HyperDual::new(q[k], unit(k == i), q_dot[k], T::zero()));
+        model.constraint(index, &q_d)
     });
-    let h = model.constraint(index, &q_d);
     ConstraintParts {
-        h: h.re,
-        gradient: h.eps1.unwrap_generic(Const::<N>, U1),
-        a_q_dot: h.eps2.unwrap_generic(U1, U1)[0],
-        hessian_q_dot: h.eps1eps2.unwrap_generic(Const::<N>, U1),
+        h: passes[0].re,
+        gradient: SVector::<T, N>::from_fn(|i, _| passes[i].eps1),
+        a_q_dot: passes[0].eps2,
+        hessian_q_dot: SVector::<T, N>::from_fn(|i, _| passes[i].eps1eps2),
     }
 }
 
