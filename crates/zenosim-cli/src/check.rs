@@ -12,7 +12,7 @@ use crate::{print_report, Classify, Failure, EXIT_OK};
 
 /// Checks the model of `args` and prints the report; exit 0, or a bad-input failure.
 pub fn check(args: &CheckArgs) -> Result<u8, Failure> {
-    let file = crate::input::load(&args.model, &args.sets).bad_input()?;
+    let file = crate::input::load(&args.model, &args.sets, args.formulas.limits()).bad_input()?;
     let options = file.options();
     let (q0, q_dot0) = (&file.initial.q, &file.initial.q_dot);
     Simulation::new(&file.model, q0, q_dot0, options)

@@ -37,9 +37,11 @@ directory; characters of the name other than letters, digits, '-', '_' and '.' b
   summary.json    the outcome, the final state, the Zeno points, the events, the hybrid time
                   domain, the work counters and the constraints' formulas h (non-finite numbers
                   are written as null)
-Each file is written to a temporary name (.<file>.partial) and renamed when complete;
-summary.json is written last (an old one, and old plots, are removed first), so its presence
-means the files are complete and belong together.
+Each file is written to a temporary name (.<file>.partial) and renamed when complete, at the
+end of the run: until then the previous run's files stay as they were, so a run that is killed
+leaves them untouched (and a hidden .partial file that the next run overwrites). The old
+summary.json and plots are removed just before the new files are renamed, summary.json last, so
+its presence means the files are complete and belong together.
 With --plot, the plots are drawn from these files once they are complete, as `zenosim plot DIR`
 draws them (see `zenosim plot --help`).
 
@@ -107,6 +109,45 @@ pub struct RunArgs {
     /// [default: the two coordinates the first constraint depends on].
     #[arg(long, value_name = "X,Y", value_parser = parse_plane)]
     pub plane: Option<Plane>,
+
+    /// The most events (impacts, switches, lift-offs) before the run stops as failed
+    /// [default: the file's simulation.max_events, else 100000].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_events: Option<u64>,
+
+    /// The most accepted steps before the run stops as failed [default: the file's
+    /// simulation.max_steps, else 10000000].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_steps: Option<u64>,
+
+    /// Bounds on the model file's formulas.
+    #[command(flatten)]
+    pub formulas: FormulaLimits,
+}
+
+/// How long and how deep a model file's formulas may be (they bound the work and the stack
+/// that a hostile or broken file can take).
+#[derive(Clone, Copy, Debug, Args)]
+pub struct FormulaLimits {
+    /// The longest formula accepted, in characters.
+    #[arg(long, value_name = "N", default_value_t = zenosim_model::expr::DEFAULT_MAX_LENGTH as u32,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    pub max_formula_length: u32,
+
+    /// The deepest nesting accepted in a formula (parentheses, calls, signs and operators).
+    #[arg(long, value_name = "N", default_value_t = zenosim_model::expr::DEFAULT_MAX_DEPTH as u32,
+          value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub max_formula_depth: u32,
+}
+
+impl FormulaLimits {
+    /// As the model crate's limits.
+    pub fn limits(&self) -> zenosim_model::Limits {
+        zenosim_model::Limits {
+            max_length: self.max_formula_length as usize,
+            max_depth: self.max_formula_depth as usize,
+        }
+    }
 }
 
 /// What `zenosim plot --help` says of the files and the exit status.
@@ -159,6 +200,10 @@ pub struct CheckArgs {
     /// Set a parameter or an initial value (a number or a formula of the parameters); repeatable.
     #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_override)]
     pub sets: Vec<Override>,
+
+    /// Bounds on the model file's formulas.
+    #[command(flatten)]
+    pub formulas: FormulaLimits,
 }
 
 fn parse_override(text: &str) -> Result<Override, String> {

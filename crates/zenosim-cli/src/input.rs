@@ -5,18 +5,19 @@ use std::io::Read;
 use std::path::Path;
 
 use anyhow::{anyhow, Context};
-use zenosim_model::{ModelFile, Override};
+use zenosim_model::{Limits, ModelFile, Override};
 
 /// The largest model file read (1 MiB): model files are a few kilobytes; anything larger is a
 /// wrong file, and refusing it early keeps a mistaken path from filling memory.
 pub const MAX_FILE_BYTES: u64 = 1 << 20;
 
-/// Reads `path` (at most `MAX_FILE_BYTES + 1` bytes) and parses it with `overrides` applied.
-/// Every error names the file.
-pub fn load(path: &Path, overrides: &[Override]) -> anyhow::Result<ModelFile> {
+/// Reads `path` (at most `MAX_FILE_BYTES + 1` bytes) and parses it with `overrides` applied,
+/// its formulas bounded by `limits`. Every error names the file.
+pub fn load(path: &Path, overrides: &[Override], limits: Limits) -> anyhow::Result<ModelFile> {
     let display = path.display().to_string();
     let source = read_source(path, &display)?;
-    zenosim_model::parse_model(&display, &source, overrides).map_err(|error| anyhow!(error))
+    zenosim_model::parse_model_with(&display, &source, overrides, limits)
+        .map_err(|error| anyhow!(error))
 }
 
 fn read_source(path: &Path, display: &str) -> anyhow::Result<String> {

@@ -1,5 +1,7 @@
 //! The output directory, whose files are complete or absent: each is written to a temporary
-//! name and renamed once complete.
+//! name, synced, and renamed once complete. A run renames its files only at its very end, so
+//! a run killed midway leaves the previous run's files as they were (and a hidden partial file,
+//! which the next run overwrites).
 
 use std::fs::{self, File};
 use std::io;
@@ -13,24 +15,27 @@ pub struct OutputDir {
 }
 
 impl OutputDir {
-    /// Creates `dir` (and its parents) and removes the files of `stale` that an earlier run
-    /// left (its `summary.json`, its plots), so that the files beside a `summary.json` always
-    /// belong to it.
-    pub fn prepare(dir: &Path, stale: &[String]) -> anyhow::Result<Self> {
+    /// Creates `dir` (and its parents). Files already there stay as they are: a temporary file
+    /// left by a killed run is overwritten when the same file is written again.
+    pub fn prepare(dir: &Path) -> anyhow::Result<Self> {
         fs::create_dir_all(dir)
             .with_context(|| format!("cannot create the output directory {}", dir.display()))?;
-        for name in stale {
-            let old = dir.join(name);
+        Ok(Self::existing(dir))
+    }
+
+    /// Removes the files `names` of this directory, if they exist.
+    pub fn remove(&self, names: impl IntoIterator<Item = String>) -> anyhow::Result<()> {
+        for name in names {
+            let old = self.dir.join(name);
             match fs::remove_file(&old) {
                 Err(error) if error.kind() != io::ErrorKind::NotFound => {
-                    return Err(error).with_context(|| {
-                        format!("cannot remove the old {} before the run", old.display())
-                    })
+                    return Err(error)
+                        .with_context(|| format!("cannot remove the old {}", old.display()))
                 }
                 _ => {}
             }
         }
-        Ok(Self::existing(dir))
+        Ok(())
     }
 
     /// The directory `dir`, as it is (to add files to a run's output).
@@ -47,7 +52,7 @@ impl OutputDir {
 
     /// Starts writing the file `name`, under the temporary name `.<name>.partial`.
     pub fn create(&self, name: &str) -> anyhow::Result<(PartialFile, File)> {
-        let partial = self.dir.join(format!(".{name}.partial"));
+        let partial = self.dir.join(partial_name(name));
         let target = self.dir.join(name);
         let file = File::create(&partial)
             .with_context(|| format!("cannot create {}", partial.display()))?;
@@ -60,6 +65,11 @@ impl OutputDir {
             file,
         ))
     }
+}
+
+/// The temporary name of the file `name` while it is written.
+fn partial_name(name: &str) -> String {
+    format!(".{name}.partial")
 }
 
 /// A file being written under its temporary name; removed unless committed.
@@ -75,11 +85,16 @@ impl PartialFile {
         &self.target
     }
 
-    /// The file is complete: it is synced to disk and renamed to its final name.
-    pub fn commit(mut self, file: File) -> anyhow::Result<()> {
+    /// The file is complete: it is synced to disk, and stays under its temporary name until
+    /// [`PartialFile::publish`].
+    pub fn finish(self, file: File) -> anyhow::Result<Self> {
         file.sync_all()
             .with_context(|| format!("cannot write {}", self.target.display()))?;
-        drop(file);
+        Ok(self)
+    }
+
+    /// Renames the finished file to its final name.
+    pub fn publish(mut self) -> anyhow::Result<()> {
         fs::rename(&self.partial, &self.target).with_context(|| {
             format!(
                 "cannot rename {} to {}",
@@ -89,6 +104,11 @@ impl PartialFile {
         })?;
         self.committed = true;
         Ok(())
+    }
+
+    /// [`PartialFile::finish`], then [`PartialFile::publish`].
+    pub fn commit(self, file: File) -> anyhow::Result<()> {
+        self.finish(file)?.publish()
     }
 }
 

@@ -7,13 +7,13 @@ use std::path::PathBuf;
 
 use anyhow::{anyhow, Context};
 use zenosim::{
-    Derived, Execution, HybridLagrangian, Outcome, OutputGrid, Simulation, SimulationOptions,
+    Derived, Error, Execution, HybridLagrangian, Outcome, OutputGrid, Simulation, SimulationOptions,
 };
 use zenosim_model::ModelFile;
 
 use crate::cli::RunArgs;
 use crate::json_layout;
-use crate::output::OutputDir;
+use crate::output::{OutputDir, PartialFile};
 use crate::plot;
 use crate::progress::Progress;
 use crate::summary::{status, Record, Summary, TrajectoryJson};
@@ -39,7 +39,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         ))
         .bad_input();
     }
-    let file = crate::input::load(&args.model, &args.sets).bad_input()?;
+    let file = crate::input::load(&args.model, &args.sets, args.formulas.limits()).bad_input()?;
     if let Some(plane) = &args.plane {
         let names: Vec<String> = file
             .model
@@ -63,10 +63,8 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         .bad_input()?;
     let dir = args.out.clone().unwrap_or_else(|| default_dir(&file.name));
 
-    let stale: Vec<String> = std::iter::once(SUMMARY.to_string())
-        .chain(plot::plot_files())
-        .collect();
-    let out = OutputDir::prepare(&dir, &stale).output()?;
+    // The previous run's files stay as they are until this run's are complete.
+    let out = OutputDir::prepare(&dir).output()?;
     let constraints: Vec<String> = file
         .model
         .constraints()
@@ -88,7 +86,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         .finish()
         .with_context(|| format!("cannot write {}", csv_partial.target().display()))
         .output()?;
-    csv_partial.commit(csv_file).output()?;
+    let csv_finished = csv_partial.finish(csv_file).output()?;
 
     let final_energy = Derived::new(&file.model).map_or(f64::NAN, |d| {
         d.energy(&execution.final_state.q, &execution.final_state.q_dot)
@@ -107,7 +105,16 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         },
     }
     .summary();
-    let summary_path = write_summary(&out, &summary)?;
+    let summary_finished = write_summary(&out, &summary)?;
+
+    // Both files are complete. The previous run's summary and plots go, then the trajectory
+    // and the summary take their final names, the summary last: a summary.json is only ever
+    // beside the files it describes (a kill between these renames leaves no summary at all).
+    out.remove(std::iter::once(SUMMARY.to_string()).chain(plot::plot_files()))
+        .output()?;
+    let summary_path = summary_finished.target().to_path_buf();
+    csv_finished.publish().output()?;
+    summary_finished.publish().output()?;
 
     // The plots, from the files just completed, exactly as `zenosim plot` draws them.
     let plots = if args.plot {
@@ -123,7 +130,8 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         Outcome::ZenoStalled { .. } => EXIT_ZENO_STALLED,
         Outcome::Failed(error) => {
             print_error(&format!(
-                "the simulation failed {error}; what was computed up to then is in {}",
+                "the simulation failed {}; what was computed up to then is in {}",
+                failure(error),
                 dir.display()
             ));
             EXIT_FAILED
@@ -134,8 +142,8 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     Ok(code)
 }
 
-/// Writes `summary.json` (under its temporary name, then renamed); its path.
-fn write_summary(out: &OutputDir, summary: &Summary<'_>) -> Result<PathBuf, Failure> {
+/// Writes `summary.json` under its temporary name, complete and synced, to be published.
+fn write_summary(out: &OutputDir, summary: &Summary<'_>) -> Result<PartialFile, Failure> {
     let (partial, file) = out.create(SUMMARY).output()?;
     let path = partial.target().to_path_buf();
     let cannot = || format!("cannot write {}", path.display());
@@ -150,8 +158,7 @@ fn write_summary(out: &OutputDir, summary: &Summary<'_>) -> Result<PathBuf, Fail
         .map_err(|error| anyhow!(error.into_error()))
         .with_context(cannot)
         .output()?;
-    partial.commit(file).output()?;
-    Ok(path)
+    partial.finish(file).output()
 }
 
 /// The file's settings, overridden by the command line's flags.
@@ -171,6 +178,12 @@ fn options(file: &ModelFile, args: &RunArgs) -> SimulationOptions {
     }
     if let Some(dt) = args.dt {
         options.output = OutputGrid::Uniform(dt);
+    }
+    if let Some(max_events) = args.max_events {
+        options.max_events = max_events;
+    }
+    if let Some(max_steps) = args.max_steps {
+        options.max_steps = max_steps;
     }
     options
 }
@@ -218,7 +231,17 @@ fn message(run: &Execution, constraints: &[String]) -> String {
             name(*constraint),
             number(*t_zeno)
         ),
-        Outcome::Failed(_) => format!("{} (after {impacts})", run.outcome),
+        Outcome::Failed(error) => format!("failed: {} (after {impacts})", failure(error)),
+    }
+}
+
+/// Why the run failed, saying how to raise a limit on the command line or in the file.
+fn failure(error: &Error) -> String {
+    match error {
+        Error::Limit { what, .. } => {
+            format!("{error} (--max-{what} N, or max_{what} in the file's [simulation])")
+        }
+        _ => error.to_string(),
     }
 }
 

@@ -356,3 +356,55 @@ fn a_full_disk_is_exit_1_and_leaves_no_partial_file() {
     assert!(err.contains("trajectory.csv"), "{err}");
     assert!(files(&out).is_empty(), "{:?}", files(&out));
 }
+
+#[test]
+fn a_killed_run_leaves_the_previous_results_as_they_were() {
+    let scratch = Scratch::new(BALL);
+    assert_exit(&scratch.run(&["--t-end", "0.3"]), 0);
+    let out = scratch.path("out");
+    let read = |name: &str| std::fs::read(out.join(name)).unwrap();
+    let (old_summary, old_csv) = (read("summary.json"), read("trajectory.csv"));
+
+    // A run of 10⁸ rows, killed (SIGKILL: no chance to clean up) once it is writing.
+    let mut child = std::process::Command::new(binary())
+        .args([
+            "run",
+            "model.toml",
+            "--out",
+            "out",
+            "--t-end",
+            "1e5",
+            "--dt",
+            "1e-3",
+        ])
+        .current_dir(scratch.dir.path())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let partial = out.join(".trajectory.csv.partial");
+    let started = std::time::Instant::now();
+    while std::fs::metadata(&partial).map_or(0, |m| m.len()) < 100_000 {
+        assert!(
+            started.elapsed().as_secs() < 60,
+            "the run never started writing"
+        );
+        assert!(child.try_wait().unwrap().is_none(), "the run ended early");
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+
+    // The previous results are untouched; the killed run's rows are only in its hidden
+    // temporary file, never under a name that looks complete.
+    assert_eq!(read("summary.json"), old_summary);
+    assert_eq!(read("trajectory.csv"), old_csv);
+    assert_eq!(
+        files(&out),
+        [".trajectory.csv.partial", "summary.json", "trajectory.csv"]
+    );
+    // The next run completes and takes the temporary name over.
+    assert_exit(&scratch.run(&["--t-end", "0.2"]), 0);
+    assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
+    assert_eq!(summary(&out)["final"]["t"], 0.2);
+}

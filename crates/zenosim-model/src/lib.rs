@@ -47,5 +47,6 @@ mod load;
 mod property_tests;
 
 pub use error::{Location, ModelError};
+pub use expr::Limits;
 pub use file_model::FileModel;
-pub use load::{parse_model, parse_zeno, ModelFile, Override, Settings};
+pub use load::{parse_model, parse_model_with, parse_zeno, ModelFile, Override, Settings};

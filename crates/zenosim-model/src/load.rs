@@ -8,7 +8,7 @@ use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 use zenosim::{
     ActiveSet, Compiled, Completion, Constraint, Derived, HybridLagrangian, Method, OutputGrid,
-    SimulationOptions, State, Tolerances, ZenoStrategy, MAX_DIMENSION,
+    Readable, SimulationOptions, State, Tolerances, ZenoStrategy, MAX_DIMENSION,
 };
 
 use crate::error::{did_you_mean, Lines, Location, ModelError};
@@ -174,10 +174,23 @@ pub fn parse_model(
     source: &str,
     overrides: &[Override],
 ) -> Result<ModelFile, ModelError> {
+    parse_model_with(file, source, overrides, Limits::default())
+}
+
+/// [`parse_model`], with the formulas bounded by `limits` instead of the default
+/// [`Limits`] (at most 100 000 characters, nested at most 256 deep): generated models with
+/// very long formulas raise them; a loader of untrusted files may lower them.
+pub fn parse_model_with(
+    file: &str,
+    source: &str,
+    overrides: &[Override],
+    limits: Limits,
+) -> Result<ModelFile, ModelError> {
     let cx = Cx {
         file,
         source,
         lines: Lines::new(source),
+        limits,
     };
     let document = DeTable::parse(source).map_err(|error| cx.toml_error(&error))?;
     cx.model(document.get_ref(), overrides)
@@ -263,6 +276,8 @@ struct Cx<'s> {
     file: &'s str,
     source: &'s str,
     lines: Lines<'s>,
+    /// The bounds on every formula.
+    limits: Limits,
 }
 
 type Table<'s> = DeTable<'s>;
@@ -561,7 +576,7 @@ impl<'s> Cx<'s> {
                     return Err(self.formula_error(
                         formula,
                         None,
-                        format!("{what} is {v}"),
+                        format!("{what} is {}", Readable(*v)),
                         "give a finite number".to_string(),
                     ));
                 }
@@ -570,7 +585,7 @@ impl<'s> Cx<'s> {
             }
             Body::Text(text) => text.clone(),
         };
-        Expression::parse_with(&text, names, &Limits::default()).map_err(|error| {
+        Expression::parse_with(&text, names, &self.limits).map_err(|error| {
             let (message, help) = describe(&error, names, what);
             self.formula_error(
                 formula,
@@ -622,7 +637,7 @@ impl<'s> Cx<'s> {
             Err(self.formula_error(
                 formula,
                 None,
-                format!("{what} evaluates to {value}"),
+                format!("{what} evaluates to {}", Readable(value)),
                 not_finite_help(value),
             ))
         }
@@ -851,7 +866,7 @@ impl<'s> Cx<'s> {
             return Err(self.formula_error(
                 formula,
                 None,
-                format!("parameter `{name}` evaluates to {value}"),
+                format!("parameter `{name}` evaluates to {}", Readable(value)),
                 not_finite_help(value),
             ));
         }
@@ -1103,7 +1118,7 @@ impl<'s> Cx<'s> {
                 Err(self.at(
                     item.span().start,
                     &path,
-                    format!("{key} is {value}; it must be > 0"),
+                    format!("{key} is {}; it must be > 0", Readable(value)),
                     what,
                 ))
             }
@@ -1258,8 +1273,9 @@ impl<'s> Cx<'s> {
             if h < 0.0 {
                 return Err(initial_at(
                     format!(
-                        "the initial state violates constraint `{}`: h(q0) = {h:e}, but the admissible side is h >= 0",
-                        c.name
+                        "the initial state violates constraint `{}`: h(q0) = {}, but the admissible side is h >= 0",
+                        c.name,
+                        Readable(h)
                     ),
                     "start on the admissible side: change [initial] (or --set) so that every h is >= 0",
                 ));
@@ -1340,6 +1356,20 @@ fn override_formula(o: &Override) -> Formula {
 
 /// What an expression error means here, and what to do.
 fn describe(error: &ExprError, names: &Names<'_>, what: &str) -> (String, String) {
+    let limit = match error {
+        ExprError::TooLong { .. } => Some("length"),
+        ExprError::TooDeep { .. } => Some("depth"),
+        _ => None,
+    };
+    if let Some(limit) = limit {
+        return (
+            format!("in {what}: {error}"),
+            format!(
+                "split the formula into parameters, or, if it is right as it is, raise the \
+                 limit: `zenosim run --max-formula-{limit} N` (Limits in the library)"
+            ),
+        );
+    }
     let ExprError::UnknownName { name, .. } = error else {
         return (
             format!("in {what}: {error}"),

@@ -1,6 +1,8 @@
 //! The errors of the engine: bad setups, refused before a run, and numerical failures during one
 //! (those end the run with `Outcome::Failed`, keeping what was computed).
 
+use std::fmt;
+
 /// Everything that can go wrong in the engine. Each message says what to do about it.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
@@ -68,7 +70,7 @@ pub enum Error {
         h: f64,
     },
     /// `M = ∂²L/∂q̇²` is not positive definite.
-    #[error("at t = {t}: the mass matrix ∂²L/∂q̇² is not positive definite (q = {q:?}, q_dot = {q_dot:?}); every coordinate needs a kinetic term, and coordinate singularities (like sin θ = 0) must be avoided")]
+    #[error("at t = {}: the mass matrix ∂²L/∂q̇² is not positive definite (q = {q:?}, q_dot = {q_dot:?}); every coordinate needs a kinetic term, and coordinate singularities (like sin θ = 0) must be avoided", Readable(*t))]
     SingularMassMatrix {
         /// When.
         t: f64,
@@ -78,7 +80,7 @@ pub enum Error {
         q_dot: Vec<f64>,
     },
     /// `∂h/∂q` vanishes where the constraint has to act.
-    #[error("at t = {t}: constraint '{constraint}' has ∂h/∂q = 0 where it must act (impact or contact force); write h so that its gradient does not vanish on h = 0")]
+    #[error("at t = {}: constraint '{constraint}' has ∂h/∂q = 0 where it must act (impact or contact force); write h so that its gradient does not vanish on h = 0", Readable(*t))]
     DegenerateConstraint {
         /// When.
         t: f64,
@@ -86,13 +88,13 @@ pub enum Error {
         constraint: String,
     },
     /// The state or its derivative became NaN or infinite.
-    #[error("at t = {t}: the state or its derivative is not finite (NaN or infinity); check the model's functions at the state reached")]
+    #[error("at t = {}: the state or its derivative is not finite (NaN or infinity); check the model's functions at the state reached", Readable(*t))]
     NonFinite {
         /// When.
         t: f64,
     },
     /// The step size fell below what floating point resolves.
-    #[error("at t = {t}: the step size {h:e} underflowed: the tolerances ask for more than f64 resolves (an atol far below the state's size), or the equations are stiff or singular there; loosen the tolerances or check the model")]
+    #[error("at t = {}: the step size {h:e} underflowed: the tolerances ask for more than f64 resolves (an atol far below the state's size), or the equations are stiff or singular there; loosen the tolerances or check the model", Readable(*t))]
     StepSizeUnderflow {
         /// When.
         t: f64,
@@ -100,7 +102,7 @@ pub enum Error {
         h: f64,
     },
     /// Two contacts at once.
-    #[error("at t = {t}: constraints '{first}' and '{second}' are in contact at the same time; simultaneous contacts are not supported yet: change the initial state or the geometry so that the contacts come one at a time")]
+    #[error("at t = {}: constraints '{first}' and '{second}' are in contact at the same time; simultaneous contacts are not supported yet: change the initial state or the geometry so that the contacts come one at a time", Readable(*t))]
     SimultaneousContact {
         /// When.
         t: f64,
@@ -110,7 +112,7 @@ pub enum Error {
         second: String,
     },
     /// The projection onto `h = 0` did not converge.
-    #[error("at t = {t}: projecting onto constraint '{constraint}' left |h| = {residual:e}; h = 0 may be singular or unreachable here: write h so that ∂h/∂q does not vanish on h = 0, or use the default completion (the general projection)")]
+    #[error("at t = {}: projecting onto constraint '{constraint}' left |h| = {residual:e}; h = 0 may be singular or unreachable here: write h so that ∂h/∂q does not vanish on h = 0, or use the default completion (the general projection)", Readable(*t))]
     Projection {
         /// When.
         t: f64,
@@ -120,7 +122,7 @@ pub enum Error {
         residual: f64,
     },
     /// A limit of the run was reached.
-    #[error("at t = {t}: the limit of {limit} {what} was reached; raise it (SimulationOptions::max_{what}) if the run needs more")]
+    #[error("{}", limit_message(*t, what, *limit, *recent))]
     Limit {
         /// When.
         t: f64,
@@ -128,5 +130,69 @@ pub enum Error {
         what: &'static str,
         /// The limit.
         limit: u64,
+        /// For the event limit: how many of the last events came within how many seconds
+        /// (`(k, span)`), to tell a long Zeno sequence from an event storm.
+        recent: Option<(u64, f64)>,
     },
+}
+
+/// A number as messages write it: plain decimals where they read well (magnitudes from `1e-4`
+/// to `1e15`), else scientific notation, so `1e-7` is not written `0.0000001`. Shortest
+/// round-trip digits either way.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Readable(pub f64);
+
+impl fmt::Display for Readable {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let t = self.0;
+        if t == 0.0 || !t.is_finite() || (1e-4..1e15).contains(&t.abs()) {
+            write!(f, "{t}")
+        } else {
+            write!(f, "{t:e}")
+        }
+    }
+}
+
+/// [`Error::Limit`]'s message.
+fn limit_message(t: f64, what: &str, limit: u64, recent: Option<(u64, f64)>) -> String {
+    let mut text = format!(
+        "at t = {}: the limit of {limit} {what} was reached",
+        Readable(t)
+    );
+    if let Some((count, span)) = recent {
+        text += &format!(", the last {count} of them within {} s", Readable(span));
+    }
+    text += &format!("; raise max_{what} if the run needs more");
+    if recent.is_some() {
+        text += ", or, if the events come faster than the motion explains (an event storm), \
+                 check the constraints' geometry";
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn times_read_as_numbers_at_every_scale() {
+        let shown = |t: f64| Readable(t).to_string();
+        assert_eq!(shown(0.0), "0");
+        assert_eq!(shown(2.5), "2.5");
+        assert_eq!(shown(2.0456107), "2.0456107");
+        assert_eq!(shown(1.0000049999924754e-7), "1.0000049999924754e-7");
+        assert_eq!(shown(1e20), "1e20");
+        let storm = Error::Limit {
+            t: 1e-7,
+            what: "events",
+            limit: 100_000,
+            recent: Some((100, 2e-10)),
+        };
+        assert!(
+            storm
+                .to_string()
+                .starts_with("at t = 1e-7: the limit of 100000 events was reached, the last 100 of them within 2e-10 s; raise max_events"),
+            "{storm}"
+        );
+    }
 }

@@ -43,7 +43,7 @@ mod zeno;
 pub use compiled::Compiled;
 pub use derivatives::MAX_DIMENSION;
 pub use derived::Derived;
-pub use error::Error;
+pub use error::{Error, Readable};
 pub use execution::{
     ActiveSet, Event, EventKind, Execution, HybridInterval, Mode, Outcome, RunStats, State,
     ZenoKind, ZenoPoint,

@@ -207,6 +207,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 t: self.t,
                 what: "steps",
                 limit,
+                recent: None,
             });
         }
         Ok(())
@@ -700,10 +701,16 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
     ) -> Result<(), Error> {
         let limit = self.sim.options.max_events;
         if self.events.len() as u64 >= limit {
+            // How quickly the last events came, to tell a storm from a long Zeno sequence.
+            let count = self.events.len().min(100);
+            let recent = self.events[self.events.len() - count..]
+                .first()
+                .map(|first| (count as u64, t - first.t));
             let error = Error::Limit {
                 t,
                 what: "events",
                 limit,
+                recent,
             };
             return Err(self.fail_at(t, before, error));
         }

@@ -663,12 +663,24 @@ fn the_event_limit_stops_the_run_after_exactly_that_many_events() {
     let (run, trajectory) = run(&ball, &[1.0], &[0.0], opts);
     let err = failure(&run).clone();
     match &err {
-        Error::Limit { t, what, limit } => {
+        Error::Limit {
+            t,
+            what,
+            limit,
+            recent,
+        } => {
             assert_eq!((*what, *limit), ("events", 5));
             let tau6 = ball.impact_time(1.0, 6);
             assert!(
                 (t - tau6).abs() < 1e-9,
                 "refused at {t}, closed-form 6th impact {tau6}"
+            );
+            // The five events kept came between the first impact and the refused sixth.
+            let (count, span) = recent.expect("the event limit says how quickly events came");
+            assert_eq!(count, 5);
+            assert!(
+                (span - (tau6 - ball.impact_time(1.0, 1))).abs() < 1e-9,
+                "{span}"
             );
         }
         other => panic!("{other:?}"),
@@ -684,8 +696,8 @@ fn the_event_limit_stops_the_run_after_exactly_that_many_events() {
         &err,
         &[
             "limit of 5 events",
-            "raise it",
-            "SimulationOptions::max_events",
+            "the last 5 of them within",
+            "raise max_events",
         ],
     );
     assert_kept_up_to_failure(&run, &trajectory);
@@ -710,11 +722,7 @@ fn the_step_limit_stops_the_run() {
         );
         assert_says(
             &err,
-            &[
-                &format!("limit of {limit} steps"),
-                "raise it",
-                "SimulationOptions::max_steps",
-            ],
+            &[&format!("limit of {limit} steps"), "raise max_steps"],
         );
         assert_kept_up_to_failure(&run, &trajectory);
         assert!(run.t_final > 0.0 && run.t_final < 10.0);
