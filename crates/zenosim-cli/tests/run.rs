@@ -365,7 +365,7 @@ fn a_killed_run_leaves_the_previous_results_as_they_were() {
     let read = |name: &str| std::fs::read(out.join(name)).unwrap();
     let (old_summary, old_csv) = (read("summary.json"), read("trajectory.csv"));
 
-    // A run of 10⁸ rows, killed (SIGKILL: no chance to clean up) once it is writing.
+    // A run of 10⁷ rows, killed (SIGKILL: no chance to clean up) once it is writing.
     let mut child = std::process::Command::new(binary())
         .args([
             "run",
@@ -373,7 +373,7 @@ fn a_killed_run_leaves_the_previous_results_as_they_were() {
             "--out",
             "out",
             "--t-end",
-            "1e5",
+            "1e4",
             "--dt",
             "1e-3",
         ])

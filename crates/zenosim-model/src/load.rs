@@ -80,6 +80,23 @@ impl Default for Settings {
     }
 }
 
+impl Settings {
+    /// The engine's options for these settings, with the default completion map.
+    fn options(&self) -> SimulationOptions {
+        SimulationOptions {
+            t_end: self.t_end,
+            tolerances: self.tolerances,
+            method: self.method,
+            zeno: self.zeno,
+            completion: Completion::Projection,
+            output: self.dt.map_or(OutputGrid::Steps, OutputGrid::Uniform),
+            max_step: self.max_step,
+            max_events: self.max_events,
+            max_steps: self.max_steps,
+        }
+    }
+}
+
 /// A model file, read and checked: the model, its initial state and its run settings.
 #[derive(Clone, Debug)]
 pub struct ModelFile {
@@ -100,22 +117,14 @@ pub struct ModelFile {
 impl ModelFile {
     /// The engine's options for these settings. A model with a `zeno_reset` uses it as `R∞`.
     pub fn options(&self) -> SimulationOptions {
-        let s = &self.settings;
         let any_reset = (0..self.model.constraints().len()).any(|i| self.model.has_zeno_reset(i));
         SimulationOptions {
-            t_end: s.t_end,
-            tolerances: s.tolerances,
-            method: s.method,
-            zeno: s.zeno,
             completion: if any_reset {
                 Completion::ModelMap
             } else {
                 Completion::Projection
             },
-            output: s.dt.map_or(OutputGrid::Steps, OutputGrid::Uniform),
-            max_step: s.max_step,
-            max_events: s.max_events,
-            max_steps: s.max_steps,
+            ..self.settings.options()
         }
     }
 
@@ -1194,6 +1203,20 @@ impl<'s> Cx<'s> {
                     ))
                 }
             };
+        }
+        // What is left to check involves several keys at once (a sampling grid denser than
+        // the step limit, say): the engine's own check, placed at the key it names.
+        if let Err(zenosim::Error::Option {
+            option, expected, ..
+        }) = settings.options().validate()
+        {
+            let at = table.get(option).unwrap_or(item);
+            return Err(self.at(
+                at.span().start,
+                &format!("simulation.{option}"),
+                format!("{option} is invalid: {expected}"),
+                "change it, or the settings it depends on",
+            ));
         }
         Ok(settings)
     }

@@ -42,7 +42,7 @@ pub enum Error {
         value: f64,
     },
     /// An option with a value it cannot take.
-    #[error("option {option} = {value} is invalid: {expected}")]
+    #[error("option {option} = {} is invalid: {expected}", Readable(*value))]
     Option {
         /// The option's name.
         option: &'static str,

@@ -146,6 +146,16 @@ impl SimulationOptions {
                     expected: "a finite sampling interval > 0",
                 });
             }
+            // A grid denser than the step limit allows is a slip (dt = 1e-9 over t_end = 3
+            // would write 3e9 rows): it would run for hours and fill the disk.
+            if self.t_end / dt > self.max_steps as f64 {
+                return Err(Error::Option {
+                    option: "dt",
+                    value: dt,
+                    expected: "at most max_steps samples over t_end (t_end / dt ≤ max_steps): \
+                               use a larger dt, or raise max_steps",
+                });
+            }
         }
         Ok(())
     }

@@ -480,6 +480,16 @@ fn invalid_options_are_refused_by_name() {
             f64::NAN,
             "finite sampling interval",
         ),
+        // 10⁹ samples over t_end = 1, more than the default 10⁷ steps allow.
+        (
+            SimulationOptions {
+                output: OutputGrid::Uniform(1e-9),
+                ..base
+            },
+            "dt",
+            1e-9,
+            "t_end / dt ≤ max_steps",
+        ),
         (
             SimulationOptions {
                 max_step: 0.0,
@@ -514,7 +524,11 @@ fn invalid_options_are_refused_by_name() {
         }
         assert_says(
             &err,
-            &[&format!("option {name} = {value}"), "invalid", expected],
+            &[
+                &format!("option {name} = {}", zenosim::Readable(value)),
+                "invalid",
+                expected,
+            ],
         );
     }
     // The smallest relative tolerance is allowed.
