@@ -819,68 +819,98 @@ impl<'s> Cx<'s> {
             .map(|(p, f)| self.compile(f, &names, &format!("parameter `{p}`")))
             .collect::<Result<Vec<_>, _>>()?;
 
-        // Depth-first evaluation; a parameter met again while being evaluated closes a cycle.
-        let count = formulas.len();
-        let mut values: Vec<Option<f64>> = vec![None; count];
-        let mut path: Vec<usize> = Vec::new();
-        for start in 0..count {
-            self.evaluate_parameter(start, &formulas, &compiled, &mut values, &mut path)?;
-        }
+        let values = self.evaluate_parameters(&formulas, &compiled)?;
         Ok(formulas
             .into_iter()
             .zip(values)
-            .map(|((p, _), v)| (p, v.expect("every parameter was evaluated")))
+            .map(|((p, _), v)| (p, v))
             .collect())
     }
 
-    fn evaluate_parameter(
+    /// Every parameter's value, each evaluated once its own parameters are, depth first; a
+    /// parameter met again while it is being evaluated closes a cycle. The depth-first search
+    /// keeps its own stack (a chain of 100 000 parameters must not overflow the thread's), and
+    /// every formula reads the one vector of values, indexed by slot.
+    fn evaluate_parameters(
         &self,
-        index: usize,
         formulas: &[(String, Formula)],
         compiled: &[Expression],
-        values: &mut [Option<f64>],
-        path: &mut Vec<usize>,
-    ) -> Result<f64, ModelError> {
-        if let Some(value) = values[index] {
-            return Ok(value);
+    ) -> Result<Vec<f64>, ModelError> {
+        #[derive(Clone, Copy, PartialEq)]
+        enum State {
+            New,
+            Evaluating,
+            Done,
         }
-        if let Some(at) = path.iter().position(|&p| p == index) {
-            let cycle: Vec<&str> = path[at..]
-                .iter()
-                .chain([&index])
-                .map(|&p| formulas[p].0.as_str())
-                .collect();
-            let (name, formula) = &formulas[index];
-            return Err(self.formula_error(
-                formula,
-                None,
-                format!(
-                    "parameter `{name}` depends on itself: {}",
-                    cycle.join(" → ")
-                ),
-                "parameters may refer to each other in any order, but not in a cycle: give one \
-                 of them a value"
-                    .to_string(),
-            ));
+        let count = formulas.len();
+        let mut values = vec![0.0_f64; count];
+        let mut state = vec![State::New; count];
+        // The path being evaluated: each parameter with how many of its slots are done.
+        let mut path: Vec<(usize, usize)> = Vec::new();
+        for start in 0..count {
+            if state[start] != State::New {
+                continue;
+            }
+            state[start] = State::Evaluating;
+            path.push((start, 0));
+            while let Some(&mut (index, ref mut next)) = path.last_mut() {
+                let slots = compiled[index].slots();
+                if let Some(&slot) = slots.get(*next) {
+                    *next += 1;
+                    match state[slot] {
+                        State::Done => {}
+                        State::New => {
+                            state[slot] = State::Evaluating;
+                            path.push((slot, 0));
+                        }
+                        State::Evaluating => return Err(self.cycle(formulas, &path, slot)),
+                    }
+                    continue;
+                }
+                path.pop();
+                let value: f64 = compiled[index].eval(&values);
+                if !value.is_finite() {
+                    let (name, formula) = &formulas[index];
+                    return Err(self.formula_error(
+                        formula,
+                        None,
+                        format!("parameter `{name}` evaluates to {}", Readable(value)),
+                        not_finite_help(value),
+                    ));
+                }
+                values[index] = value;
+                state[index] = State::Done;
+            }
         }
-        path.push(index);
-        let mut inputs = vec![0.0; formulas.len()];
-        for &slot in compiled[index].slots() {
-            inputs[slot] = self.evaluate_parameter(slot, formulas, compiled, values, path)?;
-        }
-        path.pop();
-        let value = compiled[index].eval(&inputs);
-        let (name, formula) = &formulas[index];
-        if !value.is_finite() {
-            return Err(self.formula_error(
-                formula,
-                None,
-                format!("parameter `{name}` evaluates to {}", Readable(value)),
-                not_finite_help(value),
-            ));
-        }
-        values[index] = Some(value);
-        Ok(value)
+        Ok(values)
+    }
+
+    /// The error of a cycle: `slot` is met again on `path`.
+    fn cycle(
+        &self,
+        formulas: &[(String, Formula)],
+        path: &[(usize, usize)],
+        slot: usize,
+    ) -> ModelError {
+        let at = path.iter().position(|&(p, _)| p == slot).unwrap_or(0);
+        let cycle: Vec<&str> = path[at..]
+            .iter()
+            .map(|&(p, _)| p)
+            .chain([slot])
+            .map(|p| formulas[p].0.as_str())
+            .collect();
+        let (name, formula) = &formulas[slot];
+        self.formula_error(
+            formula,
+            None,
+            format!(
+                "parameter `{name}` depends on itself: {}",
+                cycle.join(" → ")
+            ),
+            "parameters may refer to each other in any order, but not in a cycle: give one of \
+             them a value"
+                .to_string(),
+        )
     }
 
     fn constraints<'n>(

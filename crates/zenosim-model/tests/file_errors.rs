@@ -531,3 +531,30 @@ fn formula_limits_can_be_raised_and_lowered() {
     says(&e, "--max-formula-depth");
     assert_eq!(e.key(), Some("lagrangian"));
 }
+
+#[test]
+fn a_long_chain_of_parameters_is_evaluated_without_deep_recursion() {
+    // g = p0, p0 = p1, …, p19999 = 9.81: evaluated depth first on the loader's own stack (it
+    // recursed once per link, and overflowed the test thread's stack long before the end).
+    let links = 20_000;
+    let mut chain = String::from("g = \"p0\"\n");
+    for i in 0..links - 1 {
+        chain += &format!("p{i} = \"p{}\"\n", i + 1);
+    }
+    chain += &format!("p{} = 9.81\n", links - 1);
+    let file = load(&with("g = 9.81\n", &chain)).unwrap();
+    let g = file
+        .parameters
+        .iter()
+        .find(|(name, _)| name == "g")
+        .unwrap();
+    assert_eq!(g.1, 9.81);
+    // Closed into a cycle at the far end, it names the whole cycle.
+    let cyclic = chain.replace(
+        &format!("p{} = 9.81", links - 1),
+        &format!("p{} = \"g\"", links - 1),
+    );
+    let e = error(&with("g = 9.81\n", &cyclic));
+    says(&e, "parameter `g` depends on itself: g → p0 → p1 → ");
+    says(&e, &format!("p{} → g", links - 1));
+}

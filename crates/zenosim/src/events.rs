@@ -4,13 +4,21 @@
 //! - a whole flight inside one step (no sign change at the step's ends): the guard is sampled
 //!   inside the step, and between two positive samples where `ġ` goes from − to + the minimum
 //!   itself is located and tested;
+//! - a guard that varies faster than the samples see (a long free flight over a wavy surface,
+//!   where several dips fit between two samples): between two positive samples, the cubic
+//!   through their values and slopes is checked at the midpoint, and the halves are searched
+//!   in turn wherever it does not show the guard clear of 0;
 //! - a step that starts on the surface (`g = −1e-17` after a reset): the start is taken as
 //!   admissible, and the first admissible point after it is probed for before bracketing;
 //! - the root is reported on the admissible side (`g ≥ 0` there).
 
 /// Interior samples per step (the guard is smooth on the dense output, and dips between
-/// samples are caught through `ġ`).
+/// samples are caught through `ġ` and the cubic through the samples).
 pub(crate) const SAMPLES_PER_STEP: usize = 4;
+
+/// The most evaluations of the guard a step may spend on refining between samples (a guard
+/// that grazes 0 at its rounding would otherwise be refined down to the time resolution).
+const REFINE_BUDGET: usize = 256;
 
 /// A bracketed crossing `g(t_admissible) > 0 ≥ g(t_violating)`, `t_violating − t_admissible`
 /// at round-off.
@@ -43,6 +51,7 @@ pub(crate) fn first_crossing(
     let n = SAMPLES_PER_STEP;
     let mut prev_t = t0;
     let mut prev = g(t0);
+    let mut budget = REFINE_BUDGET;
     for k in 1..=n {
         let t = if k == n {
             t1
@@ -53,18 +62,100 @@ pub(crate) fn first_crossing(
         if cur.0 <= 0.0 || cur.0.is_nan() {
             return Some(bracket(prev_t, prev.0, t, &mut g));
         }
-        // Both ends positive: a dip in between shows as ġ going from − to +.
-        if let (Some(d0), Some(d1)) = (prev.1, cur.1) {
-            if d0 < 0.0 && d1 > 0.0 && prev.0 > 0.0 {
-                if let Some(crossing) = dip(prev_t, t, &mut g) {
-                    return Some(crossing);
-                }
-            }
+        if let Some(crossing) = between(prev_t, prev, t, cur, &mut g, &mut budget) {
+            return Some(crossing);
         }
         prev_t = t;
         prev = cur;
     }
     None
+}
+
+/// The first crossing between two samples `a` and `b` where `g` is positive (or `a` is the
+/// step's start, admissible), each with its slope if known.
+///
+/// Where `ġ` goes from − to +, the dip is located ([`dip`]). Then the cubic `H` through the
+/// values and slopes at `a` and `b` is checked at the midpoint: it matches `g` at both ends,
+/// and its error grows like `s²(1−s)²` (`s` the fraction of the interval) to its largest near
+/// the midpoint, where the misfit measures it. Where `H` minus twice that error profile stays
+/// positive, `g` is clear of 0; elsewhere the halves are searched in turn, within `budget`
+/// evaluations of `g`. Without slopes, only the sign at the samples counts.
+fn between(
+    a: f64,
+    ga: (f64, Option<f64>),
+    b: f64,
+    gb: (f64, Option<f64>),
+    g: &mut impl FnMut(f64) -> (f64, Option<f64>),
+    budget: &mut usize,
+) -> Option<Crossing> {
+    let (Some(da), Some(db)) = (ga.1, gb.1) else {
+        return None;
+    };
+    if da < 0.0 && db > 0.0 && ga.0 > 0.0 {
+        if let Some(crossing) = dip(a, b, g) {
+            return Some(crossing);
+        }
+    }
+    let width = b - a;
+    // A start on the surface (`g` at its rounding, after an event) is left to the samples: near
+    // it the guard is rounding noise, and the refinement would find crossings in the noise (the
+    // caller takes such a start as admissible, and bounds the step after an impact).
+    let on_surface = ga.0 <= 1e-9 * (gb.0 + width * db.abs());
+    if on_surface || *budget == 0 || width <= time_resolution(b) {
+        return None;
+    }
+    *budget -= 1;
+    let m = a + 0.5 * width;
+    let gm = g(m);
+    if gm.0 <= 0.0 || gm.0.is_nan() {
+        return Some(bracket(a, ga.0, m, g));
+    }
+    // H(s) on s ∈ [0, 1]: values g_a, g_b, slopes da·width, db·width.
+    let (p0, p1, m0, m1) = (ga.0, gb.0, da * width, db * width);
+    let cubic = |s: f64| {
+        let (s2, s3) = (s * s, s * s * s);
+        (2.0 * s3 - 3.0 * s2 + 1.0) * p0
+            + (s3 - 2.0 * s2 + s) * m0
+            + (-2.0 * s3 + 3.0 * s2) * p1
+            + (s3 - s2) * m1
+    };
+    let misfit = (gm.0 - cubic(0.5)).abs();
+    // The error profile 16 misfit s²(1−s)², twice over; sampled finely (H is a cubic), and at
+    // H's interior minimum, where a near miss would be (unless it is closer to an end than time
+    // resolves: a start on the surface whose `ġ` rounds to −1e-17).
+    let clear = |s: f64| cubic(s) - 32.0 * misfit * (s * (1.0 - s)).powi(2) > 0.0;
+    let resolution = time_resolution(b) / width;
+    let minimum = cubic_minimum(p0, p1, m0, m1).filter(|s| s.min(1.0 - s) > resolution);
+    let samples = (1..32).map(|k| f64::from(k) / 32.0);
+    if samples.chain(minimum).all(clear) {
+        return None;
+    }
+    between(a, ga, m, gm, g, budget).or_else(|| between(m, gm, b, gb, g, budget))
+}
+
+/// The interior local minimum `s ∈ (0, 1)` of the cubic Hermite interpolant with values `p0`,
+/// `p1` and slopes `m0`, `m1` at 0 and 1, if it has one.
+fn cubic_minimum(p0: f64, p1: f64, m0: f64, m1: f64) -> Option<f64> {
+    // H'(s) = 3α s² + 2β s + m0 with α = 2p0 + m0 − 2p1 + m1, β = −3p0 − 2m0 + 3p1 − m1.
+    let alpha = 2.0 * p0 + m0 - 2.0 * p1 + m1;
+    let beta = -3.0 * p0 - 2.0 * m0 + 3.0 * p1 - m1;
+    let (qa, qb, qc) = (3.0 * alpha, 2.0 * beta, m0);
+    let roots = if qa.abs() <= 1e-12 * (qb.abs() + qc.abs()) {
+        [(qb != 0.0).then(|| -qc / qb), None]
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc < 0.0 {
+            [None, None]
+        } else {
+            let r = disc.sqrt();
+            [Some((-qb - r) / (2.0 * qa)), Some((-qb + r) / (2.0 * qa))]
+        }
+    };
+    // A minimum where H'' = 6α s + 2β > 0.
+    roots
+        .into_iter()
+        .flatten()
+        .find(|&s| s > 0.0 && s < 1.0 && 6.0 * alpha * s + 2.0 * beta > 0.0)
 }
 
 /// Locates the minimum of `g` between `a` (`ġ < 0`) and `b` (`ġ > 0`) and brackets a crossing
@@ -233,6 +324,43 @@ mod tests {
             Some(2.0 * (t - 0.5))
         ))
         .is_none());
+    }
+
+    /// `g = 0.05 + 0.3 t − 0.2 sin(2π t/0.3)` dips to −0.128 near t = 0.07, between the
+    /// samples at 0 and 0.25 of the step [0, 1], where `ġ` is −3.9 and −1.8: no sign change of
+    /// `g` or `ġ` shows it (the guard of a long flight over a wavy surface).
+    #[test]
+    fn finds_a_dip_between_two_samples_whose_slopes_agree() {
+        let w = 2.0 * std::f64::consts::PI / 0.3;
+        let g = |t: f64| {
+            let value = 0.05 + 0.3 * t - 0.2 * (w * t).sin();
+            (value, Some(0.3 - 0.2 * w * (w * t).cos()))
+        };
+        assert!(g(0.25).0 > 0.0 && g(0.25).1.unwrap() < 0.0);
+        let c = first_crossing(0.0, 1.0, g).expect("the dip must be found");
+        assert!(
+            g(c.t_admissible).0 > 0.0 && g(c.t_violating).0 <= 0.0,
+            "{c:?}"
+        );
+        assert!(c.t_violating - c.t_admissible <= time_resolution(1.0));
+        // The first root, 0.0131 by a scan: g is positive on [0, t] before it.
+        assert!((c.t_admissible - 0.0131).abs() < 1e-3, "{c:?}");
+        assert!((0..1000).all(|k| g(c.t_admissible * f64::from(k) / 1000.0).0 > 0.0));
+    }
+
+    #[test]
+    fn a_guard_clear_of_zero_costs_one_more_evaluation_per_sample() {
+        // Rising from 1, and from 1e-9 (the cubic fits a quadratic exactly): each interval needs
+        // its midpoint only, 5 samples and 4 midpoints.
+        for offset in [1.0, 1e-9] {
+            let mut evaluations = 0;
+            let crossing = first_crossing(0.0, 1.0, |t| {
+                evaluations += 1;
+                (offset + t + t * t, Some(1.0 + 2.0 * t))
+            });
+            assert!(crossing.is_none());
+            assert_eq!(evaluations, 9, "from {offset}");
+        }
     }
 
     #[test]

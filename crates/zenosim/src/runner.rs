@@ -167,6 +167,9 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let y0 = self.y.clone();
         self.restart(0.0, &y0, None)?;
         self.emit_grid_through(0.0)?;
+        if let Next::Stop(outcome) = self.contact_at_start()? {
+            return Ok(outcome);
+        }
         while self.t < options.t_end {
             self.check_step_limit()?;
             let h_max = options.max_step.min(self.flight_bound);
@@ -242,6 +245,48 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let hint = self.stepper.suggested_step();
         let before = self.state_at(t_event)?;
         let (t_event, before) = self.admissible_side(index, t_event, before)?;
+        self.crossing(index, t_event, before, hint)
+    }
+
+    /// A start on a surface (`h ≤ 0`, within the rounding that [`Simulation::new`] admits) that
+    /// moves into it, or rests on it pressed, is a contact at `t = 0`, decided as for a crossing
+    /// found at a step's start. The search on the dense output takes a step's start as
+    /// admissible and looks for dips only between positive samples: a body that moves in slowly
+    /// while pulled away hard would dip in and out again before the first step's first sample,
+    /// unseen.
+    fn contact_at_start(&mut self) -> Result<Next, Error> {
+        let n = self.n;
+        let y = self.y.clone();
+        let (q, q_dot) = y.split_at(n);
+        let mut contact = None;
+        for index in 0..self.sim.model.constraints().len() {
+            let (h, _, _) = guard_along(self.sim.model, index, q, q_dot);
+            if h > 0.0 || leaving(&self.normal(index, self.t, q, q_dot)?) {
+                continue;
+            }
+            if let Some(other) = contact {
+                return Err(self.simultaneous(self.t, other, index));
+            }
+            contact = Some(index);
+        }
+        match contact {
+            Some(index) => {
+                let hint = self.stepper.suggested_step();
+                self.crossing(index, self.t, y, hint)
+            }
+            None => Ok(Next::Continue),
+        }
+    }
+
+    /// The guard of constraint `index` crossed at `t_event`, from the state `before` on its
+    /// admissible side: an impact, or a spurious crossing of a body that is leaving.
+    fn crossing(
+        &mut self,
+        index: usize,
+        t_event: f64,
+        before: Vec<f64>,
+        hint: f64,
+    ) -> Result<Next, Error> {
         let (q, q_dot) = before.split_at(self.n);
         let normal = self.normal(index, t_event, q, q_dot)?;
         // A surface where ∂h/∂q vanishes (h = x³ at x = 0) has no normal to bounce along: below
@@ -255,16 +300,25 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             };
             return Err(self.fail_at(t_event, &before, error));
         }
-        let leaving = normal.a_q_dot > 0.0
-            || (normal.a_q_dot.abs() <= normal.a_q_dot_round_off
-                && normal.h_ddot_free > normal.h_ddot_round_off);
-        if leaving {
+        if leaving(&normal) {
             // Moving away at the root (or at rest and accelerating away): a round-off crossing,
             // not an impact (REFERENCE §4).
             self.spurious += 1;
             if self.no_progress(t_event) {
                 return self.stuck_at(index, t_event, &before);
             }
+            // Pulled back, it lands after the flight 2 A q̇/|ḧ|: bound the next step by it, as
+            // after an impact, so that no step carries the body into the surface and out again
+            // between the samples of its dense output.
+            let e = self.sim.model.constraints()[index].restitution;
+            let round_off = (normal.a_q_dot_round_off, normal.h_ddot_round_off);
+            let hint = match Prediction::new(normal.a_q_dot, normal.h_ddot_free, e, round_off) {
+                Some(p) if p.next_flight > time_resolution(t_event) => {
+                    self.flight_bound = 1.5 * p.next_flight;
+                    hint.min(self.flight_bound)
+                }
+                _ => hint,
+            };
             self.restart(t_event, &before, Some(hint))?;
             return Ok(Next::Continue);
         }
@@ -920,6 +974,15 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         self.y.copy_from_slice(y);
         error
     }
+}
+
+/// Whether a body at a constraint's surface is leaving it: moving away, or at rest (a normal
+/// velocity within its rounding has no sign) and accelerating away. Otherwise it is in contact
+/// (moving in, or pressed onto the surface at rest, however `A q̇` happened to round).
+fn leaving(normal: &Normal) -> bool {
+    normal.a_q_dot > normal.a_q_dot_round_off
+        || (normal.a_q_dot.abs() <= normal.a_q_dot_round_off
+            && normal.h_ddot_free > normal.h_ddot_round_off)
 }
 
 fn split(y: &[f64], n: usize) -> State {

@@ -8,4 +8,5 @@ mod errors;
 mod liftoff;
 mod multiple_constraints;
 mod properties;
+mod random_states;
 mod review_regressions;
