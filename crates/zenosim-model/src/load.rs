@@ -232,6 +232,29 @@ enum Body {
     Text(String),
 }
 
+/// The byte offset of the first non-blank character of the most deeply nested line of a TOML
+/// source (dots in its key or header, brackets and braces after its `=`), if any line nests.
+fn deepest_line(source: &str) -> Option<usize> {
+    let mut best: Option<(usize, usize)> = None;
+    let mut offset = 0;
+    for line in source.split_inclusive('\n') {
+        let text = line.trim_start();
+        let (key, value) = if text.starts_with('[') {
+            (text, "")
+        } else {
+            text.split_once('=').unwrap_or((text, ""))
+        };
+        let depth = key.matches('.').count()
+            + value.matches(['[', '{']).count()
+            + usize::from(key.starts_with('['));
+        if depth > best.map_or(0, |(d, _)| d) {
+            best = Some((depth, offset + line.len() - text.len()));
+        }
+        offset += line.len();
+    }
+    best.map(|(_, at)| at)
+}
+
 /// What a formula may read.
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Reads {
@@ -331,7 +354,22 @@ impl<'s> Cx<'s> {
                 format!("invalid TOML: {message}"),
                 Some(help.to_string()),
             ),
-            None => ModelError::file(self.file, format!("invalid TOML: {message}"), help),
+            // The TOML reader gives no place for some errors (its recursion limit): point at
+            // the most deeply nested line, where such an error comes from.
+            None => match deepest_line(self.source) {
+                Some(offset) => self.lines.error_at(
+                    self.file,
+                    offset,
+                    None,
+                    format!("invalid TOML: {message}"),
+                    Some(
+                        "nest dotted keys, tables, arrays and inline tables less deeply (this \
+                         line is the most deeply nested)"
+                            .to_string(),
+                    ),
+                ),
+                None => ModelError::file(self.file, format!("invalid TOML: {message}"), help),
+            },
         }
     }
 

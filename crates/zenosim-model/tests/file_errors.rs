@@ -558,3 +558,16 @@ fn a_long_chain_of_parameters_is_evaluated_without_deep_recursion() {
     says(&e, "parameter `g` depends on itself: g → p0 → p1 → ");
     says(&e, &format!("p{} → g", links - 1));
 }
+
+#[test]
+fn toml_nested_past_the_readers_limit_points_at_the_deepest_line() {
+    // The TOML reader stops at its recursion limit without saying where.
+    let dotted = vec!["a"; 200].join(".");
+    let e = error(&with(
+        "[parameters]",
+        &format!("[parameters]\n{dotted} = 1"),
+    ));
+    says(&e, "invalid TOML");
+    says(&e, "most deeply nested");
+    assert_eq!(e.position(), Some((6, 1)), "{e}");
+}
