@@ -625,6 +625,16 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         {
             let (q, q_dot) = after.split_at_mut(self.n);
             if self.sim.options.completion == Completion::ModelMap {
+                // Under `Auto` the switch state stands for the Zeno point, up to the bounces not
+                // taken: their normal velocity goes plastically first, so that a map written for
+                // the point itself (the paper's keep some coordinates and solve for the others)
+                // does not turn it into a tangential error. Under the paper's ε rule the map
+                // acts on the state as it is, as in the paper.
+                if self.sim.options.zeno == ZenoStrategy::Auto {
+                    self.mech
+                        .project(index, q, q_dot)
+                        .map_err(|err| self.fail_dynamics(err, t, &before))?;
+                }
                 self.sim.model.completion_map(index, q, q_dot);
             }
             self.mech
