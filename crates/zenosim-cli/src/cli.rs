@@ -56,6 +56,89 @@ written); 3 the run stopped at a Zeno point (--zeno off)."
     /// Check a model and print what zenosim derives from it at the initial state.
     #[command(after_help = "Exit status: 0 the model is valid; 2 it is not (or bad arguments).")]
     Check(CheckArgs),
+    /// Time a model's runs, at its own tolerances or at several, and report each run's outcome
+    /// and wall time as JSON (on stdout).
+    #[command(after_help = BENCH_HELP)]
+    Bench(BenchArgs),
+    /// Draw work–precision diagrams (error against wall time and against right-hand-side
+    /// evaluations) from a JSON file of measured points, as bench/run writes it.
+    #[command(after_help = WORK_PRECISION_HELP)]
+    WorkPrecision(WorkPrecisionArgs),
+}
+
+/// What `zenosim bench --help` says of its report.
+const BENCH_HELP: &str = "Each run is timed in this process with no output written (the \
+simulation's own time): once untimed, then repeatedly until --min-time has passed (at least 3 \
+times); the median, fastest and slowest are reported. Loading the file (reading, parsing, \
+checking, compiling its derivatives) is timed apart, as load_time_s.
+
+The report on stdout: {\"zenosim\", \"model\", \"coordinates\", \"parameters\", \"initial\", \
+\"constraints\", \"load_time_s\": {median, min, max, repeats}, \"runs\": [one per tolerance: \
+{\"settings\", \"status\", \"message\", \"final\", \"zeno\", \"events\": {impact, zeno, liftoff}, \
+\"stats\", \"wall_time_s\"}]}; settings, final, zeno and stats as in summary.json (see \
+`zenosim run --help`). A line per tolerance goes to stderr as it is measured.
+
+Exit status: 0 every run finished; 1 a run failed (the report is still written); 2 a bad model \
+or bad arguments; 3 a run stopped at a Zeno point (--zeno off).";
+
+/// What `zenosim work-precision --help` says of its input.
+const WORK_PRECISION_HELP: &str = "The input (bench/run writes it as \
+bench/results/work-precision.json):
+  {\"title\": \"...\", \"subtitle\": \"...\", \"panels\": [{\"title\": \"...\", \"error\": \"what the error is\",
+   \"series\": [{\"label\": \"...\", \"points\": [{\"error\": E, \"wall_time_s\": T, \"rhs_evals\": N,
+   \"tolerance\": TOL (optional), \"epsilon\": EPS (optional)}, ...]}, ...]}, ...]}
+Each panel is a row of two log–log plots: the error against the wall time and against the
+right-hand-side evaluations, a line per series through its points in order of cost. An error of
+exactly 0 is drawn on the plot's floor with an open marker.
+
+Exit status: 0 the diagram is written; 1 it could not be written; 2 the input is missing or
+malformed (the message names the file, the line and the key), or bad arguments.";
+
+/// `zenosim bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// The model file (TOML).
+    #[arg(value_name = "MODEL.toml")]
+    pub model: PathBuf,
+
+    /// Set a parameter or an initial value (a number or a formula of the parameters); repeatable.
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_override)]
+    pub sets: Vec<Override>,
+
+    /// The stop time [default: the file's simulation.t_end, else 10].
+    #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = positive)]
+    pub t_end: Option<f64>,
+
+    /// How to pass Zeno points: auto, off or ε, as for `zenosim run` [default: the file's].
+    #[arg(long, value_name = "auto|off|EPS", allow_negative_numbers = true, value_parser = zeno)]
+    pub zeno: Option<ZenoStrategy>,
+
+    /// Run once per tolerance, with rtol = atol = each, e.g. 1e-4,1e-6,1e-8 [default: once,
+    /// at the file's rtol and atol].
+    #[arg(long, value_name = "TOL,...", value_delimiter = ',', num_args = 1..,
+          allow_negative_numbers = true, value_parser = positive)]
+    pub tolerances: Option<Vec<f64>>,
+
+    /// Repeat each run until this many seconds have passed (it runs 3 times at least).
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.5, allow_negative_numbers = true,
+          value_parser = non_negative)]
+    pub min_time: f64,
+
+    /// Bounds on the model file's formulas.
+    #[command(flatten)]
+    pub formulas: FormulaLimits,
+}
+
+/// `zenosim work-precision`.
+#[derive(Debug, Args)]
+pub struct WorkPrecisionArgs {
+    /// The measured points (JSON).
+    #[arg(value_name = "POINTS.json")]
+    pub input: PathBuf,
+
+    /// The diagram's file: .svg or .png [default: the input's name with .svg].
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
 }
 
 /// `zenosim run`.
@@ -222,6 +305,14 @@ fn positive(text: &str) -> Result<f64, String> {
     }
 }
 
+fn non_negative(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        Ok(_) => Err("must be a finite number ≥ 0".to_string()),
+        Err(_) => Err("not a number: write e.g. 0.5 or 2".to_string()),
+    }
+}
+
 fn zeno(text: &str) -> Result<ZenoStrategy, String> {
     zenosim_model::parse_zeno(text.trim()).ok_or_else(|| {
         "expected auto, off or a threshold ε > 0 (the paper's rule, e.g. 1e-3)".to_string()
@@ -246,6 +337,9 @@ mod tests {
         assert!(positive("inf").is_err());
         assert!(positive("NaN").is_err());
         assert!(positive("x").is_err());
+        assert_eq!(non_negative("0"), Ok(0.0));
+        assert!(non_negative("-0.1").is_err());
+        assert!(non_negative("inf").is_err());
         assert_eq!(zeno("off"), Ok(ZenoStrategy::Off));
         assert_eq!(zeno("1e-3"), Ok(ZenoStrategy::Epsilon(1e-3)));
         assert!(zeno("banana").is_err());

@@ -1,12 +1,14 @@
 //! The `zenosim` command: simulate a hybrid Lagrangian written in a model file (`zenosim run`),
 //! check one and print what zenosim derives from it (`zenosim check`), or draw the plots of a
-//! run (`zenosim plot`, or `zenosim run --plot`).
+//! run (`zenosim plot`, or `zenosim run --plot`); time a model's runs (`zenosim bench`) and draw
+//! work–precision diagrams (`zenosim work-precision`).
 //!
 //! Exit status: 0 finished (or a valid model, or plots drawn), 1 the simulation failed or the
 //! output could not be written, 2 a bad model, a bad run directory or bad arguments, 3 stopped
 //! at a Zeno point (`--zeno off`).
 //! Every error is printed on stderr as `error: …`; reports go to stdout.
 
+mod bench;
 mod check;
 mod cli;
 mod input;
@@ -66,6 +68,8 @@ fn main() -> ExitCode {
         Command::Run(args) => run::run(&args),
         Command::Check(args) => check::check(&args),
         Command::Plot(args) => plot::plot(&args),
+        Command::Bench(args) => bench::bench(&args),
+        Command::WorkPrecision(args) => plot::work_precision(&args),
     };
     match result {
         Ok(code) => ExitCode::from(code),

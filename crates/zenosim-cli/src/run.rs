@@ -65,12 +65,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
 
     // The previous run's files stay as they are until this run's are complete.
     let out = OutputDir::prepare(&dir).output()?;
-    let constraints: Vec<String> = file
-        .model
-        .constraints()
-        .iter()
-        .map(|c| c.name.clone())
-        .collect();
+    let constraints = constraint_names(&file);
 
     let (csv_partial, csv_file) = out.create(TRAJECTORY).output()?;
     let mut writer = TrajectoryWriter::new(
@@ -188,6 +183,15 @@ fn options(file: &ModelFile, args: &RunArgs) -> SimulationOptions {
     options
 }
 
+/// The names of `file`'s constraints, in order.
+pub fn constraint_names(file: &ModelFile) -> Vec<String> {
+    file.model
+        .constraints()
+        .iter()
+        .map(|c| c.name.clone())
+        .collect()
+}
+
 /// `out/<model name>`, the name made a single safe path component: characters other than
 /// letters, digits, `-`, `_` and `.` become `_`, and leading dots are dropped.
 pub fn default_dir(name: &str) -> PathBuf {
@@ -215,7 +219,7 @@ pub fn plural(count: usize, what: &str) -> String {
 }
 
 /// The summary's message: what happened, in a sentence.
-fn message(run: &Execution, constraints: &[String]) -> String {
+pub fn message(run: &Execution, constraints: &[String]) -> String {
     let name = |index: usize| constraints.get(index).map_or("?", String::as_str);
     let impacts = plural(run.stats.impacts as usize, "impact");
     match &run.outcome {

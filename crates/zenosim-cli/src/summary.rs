@@ -68,6 +68,13 @@ impl<'a, T, U> Lazy<'a, T, U> {
     }
 }
 
+impl<'a, T, U> Lazy<'a, T, U> {
+    /// Every item, mapped.
+    pub fn collect(self) -> Vec<U> {
+        self.items.iter().map(&self.map).collect()
+    }
+}
+
 impl<T, U: Serialize> Serialize for Lazy<'_, T, U> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         serializer.collect_seq(self.items.iter().map(&self.map))
@@ -76,6 +83,18 @@ impl<T, U: Serialize> Serialize for Lazy<'_, T, U> {
 
 /// Name → value pairs, serialised as a JSON object in their order.
 pub struct Pairs<'a, V = f64>(pub Vec<(&'a str, V)>);
+
+impl<'a> Pairs<'a> {
+    /// The parameters of `file` (after `--set`), in the file's order.
+    pub fn parameters(file: &'a ModelFile) -> Self {
+        Self(
+            file.parameters
+                .iter()
+                .map(|(n, v)| (n.as_str(), *v))
+                .collect(),
+        )
+    }
+}
 
 impl<V: Serialize> Serialize for Pairs<'_, V> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
@@ -282,12 +301,7 @@ impl<'a> Record<'a> {
                     .map(|(i, c)| (c.name.as_str(), file.model.constraint_formula(i).source()))
                     .collect(),
             ),
-            parameters: Pairs(
-                file.parameters
-                    .iter()
-                    .map(|(n, v)| (n.as_str(), *v))
-                    .collect(),
-            ),
+            parameters: Pairs::parameters(file),
             initial: (&file.initial).into(),
             settings: self.options.into(),
             final_: FinalJson {

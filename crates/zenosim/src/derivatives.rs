@@ -20,58 +20,37 @@ use num_dual::{Dual, Dual2, HyperDual};
 ///
 /// Each dimension up to it compiles the mechanics' statically sized linear algebra separately
 /// for every model type, so it bounds the build time (the model's own functions are compiled
-/// once per number type, whatever the dimension).
-pub const MAX_DIMENSION: usize = 10;
+/// once per number type, whatever the dimension). Raising it means adding the new dimensions to
+/// the list in the crate's `with_dimension!` macro (a unit test checks that they agree).
+pub const MAX_DIMENSION: usize = 20;
 
-/// Runs `$body` with `$N` a `const usize` equal to the runtime dimension `$n` (1..=10).
+/// Runs `$body` with `$N` a `const usize` equal to the runtime dimension `$n`
+/// (1..=[`MAX_DIMENSION`]).
 macro_rules! with_dimension {
     ($n:expr, $N:ident => $body:expr) => {
+        $crate::derivatives::dimension_match!(
+            $n, $N, $body, [1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20]
+        )
+    };
+}
+pub(crate) use with_dimension;
+
+/// The `match` behind [`with_dimension!`]: one arm per listed dimension, each with its own
+/// `const $N`, and `$body` written into every arm.
+macro_rules! dimension_match {
+    ($n:expr, $N:ident, $body:expr, [$($dimension:literal)+]) => {
         match $n {
-            1 => {
-                const $N: usize = 1;
-                $body
-            }
-            2 => {
-                const $N: usize = 2;
-                $body
-            }
-            3 => {
-                const $N: usize = 3;
-                $body
-            }
-            4 => {
-                const $N: usize = 4;
-                $body
-            }
-            5 => {
-                const $N: usize = 5;
-                $body
-            }
-            6 => {
-                const $N: usize = 6;
-                $body
-            }
-            7 => {
-                const $N: usize = 7;
-                $body
-            }
-            8 => {
-                const $N: usize = 8;
-                $body
-            }
-            9 => {
-                const $N: usize = 9;
-                $body
-            }
-            10 => {
-                const $N: usize = 10;
-                $body
-            }
+            $(
+                $dimension => {
+                    const $N: usize = $dimension;
+                    $body
+                }
+            )+
             other => unreachable!("dimension {other} was checked against MAX_DIMENSION at setup"),
         }
     };
 }
-pub(crate) use with_dimension;
+pub(crate) use dimension_match;
 
 /// The Lagrangian's terms at `(q, q̇)`: `M q̈ = force` is the Euler–Lagrange equation.
 ///
@@ -329,7 +308,7 @@ mod tests {
 
     use super::*;
     use crate::model::{Constraint, Scalar};
-    use crate::models::{BallOnSine, BouncingBall, CartPendulum, SphericalPendulum};
+    use crate::models::{BallOnSine, BouncingBall, CartPendulum, PendulumChain, SphericalPendulum};
     use proptest::prelude::*;
 
     const STEP1: f64 = 1e-5;
@@ -587,6 +566,18 @@ mod tests {
     }
 
     #[test]
+    fn with_dimension_covers_one_to_max_dimension() {
+        for n in 1..=MAX_DIMENSION {
+            assert_eq!(with_dimension!(n, N => N), n);
+        }
+        let beyond = std::panic::catch_unwind(|| with_dimension!(MAX_DIMENSION + 1, N => N));
+        assert!(
+            beyond.is_err(),
+            "a dimension above MAX_DIMENSION has an arm"
+        );
+    }
+
+    #[test]
     fn a_branch_on_a_value_leaves_that_part_differentiated() {
         let model = Branching {
             constraints: [Constraint::new("wall", 0.5)],
@@ -652,6 +643,35 @@ mod tests {
             v in vec_in(-3.0..3.0, 2),
         ) {
             check_model::<2, _>(&SphericalPendulum::demo().model, &[theta, phi], &v)?;
+        }
+
+        #[test]
+        fn pendulum_chain_derivatives(q in vec_in(-3.2..3.2, 4), v in vec_in(-3.0..3.0, 4)) {
+            check_model::<4, _>(&PendulumChain::example(4).model, &q, &v)?;
+        }
+
+        /// The chain's mass matrix in closed form, `M_ij = m (n + 1 − max(i, j)) l² cos(θ_i − θ_j)`
+        /// (1-based), and `h = l Σ sin θ_i − w`, `A_i = l cos θ_i`.
+        #[test]
+        fn pendulum_chain_closed_form(q in vec_in(-3.2..3.2, 5), v in vec_in(-3.0..3.0, 5)) {
+            let chain = PendulumChain::new(5, 0.7, 1.3, 9.81, 1.1, 0.5);
+            let (l, m) = (0.7, 1.3);
+            let mass = mass_matrix::<5, _>(&chain, &q, &v);
+            for i in 0..5 {
+                for j in 0..5 {
+                    let exact = m * (5 - i.max(j)) as f64 * l * l * (q[i] - q[j]).cos();
+                    prop_assert!(
+                        (mass[(i, j)] - exact).abs() <= 1e-14 * 5.0 * m * l * l,
+                        "M[{i}][{j}] = {} vs {exact}", mass[(i, j)]
+                    );
+                }
+            }
+            let c = constraint_terms::<5, _>(&chain, 0, &q, &v);
+            let h = l * q.iter().map(|t| t.sin()).sum::<f64>() - 1.1;
+            prop_assert!((c.h - h).abs() <= 1e-14 * 5.0);
+            for (a, theta) in c.gradient.iter().zip(&q) {
+                prop_assert!((a - l * theta.cos()).abs() <= 1e-15);
+            }
         }
 
         #[test]

@@ -53,8 +53,22 @@ impl<'a, L: HybridLagrangian> Derived<'a, L> {
     /// `q̈` of the free motion.
     pub fn acceleration(&self, q: &[f64], q_dot: &[f64]) -> Option<Vec<f64>> {
         let mut acc = vec![0.0; self.n];
-        self.mech.acceleration(q, q_dot, None, &mut acc).ok()?;
+        self.write_acceleration(None, q, q_dot, &mut acc)?;
         Some(acc)
+    }
+
+    /// `q̈` into `q_ddot` without allocating, as the engine evaluates it at every stage of a
+    /// step: of the free motion (`active` is `None`), or of the motion constrained to
+    /// `h_active = 0`, then returning the multiplier `λ` (0 for the free motion). `None` where
+    /// the mechanics fail (`M` not positive definite, `A` vanishing, a value not finite).
+    pub fn write_acceleration(
+        &self,
+        active: Option<usize>,
+        q: &[f64],
+        q_dot: &[f64],
+        q_ddot: &mut [f64],
+    ) -> Option<f64> {
+        self.mech.acceleration(q, q_dot, active, q_ddot).ok()
     }
 
     /// `h(q)` and `A = ∂h/∂q` of constraint `index`.

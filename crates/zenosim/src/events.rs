@@ -11,6 +11,9 @@
 //! - a step that starts on the surface (`g = −1e-17` after a reset): the start is taken as
 //!   admissible, and the first admissible point after it is probed for before bracketing;
 //! - the root is reported on the admissible side (`g ≥ 0` there).
+//!
+//! [`first_crossing`] is public so that it can be measured (the engine's benchmarks) and used
+//! with an [`crate::integrator::Stepper`]'s dense output for other guards.
 
 /// Interior samples per step (the guard is smooth on the dense output, and dips between
 /// samples are caught through `ġ` and the cubic through the samples).
@@ -23,7 +26,7 @@ const REFINE_BUDGET: usize = 256;
 /// A bracketed crossing `g(t_admissible) > 0 ≥ g(t_violating)`, `t_violating − t_admissible`
 /// at round-off.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Crossing {
+pub struct Crossing {
     /// The last time on the admissible side: where the event is reported.
     pub t_admissible: f64,
     /// The first time on the other side.
@@ -35,12 +38,21 @@ pub(crate) fn time_resolution(t: f64) -> f64 {
     64.0 * f64::EPSILON * t.abs().max(1.0)
 }
 
-/// The first crossing of `g` from `> 0` to `≤ 0` in `(t0, t1]`.
+/// The first crossing of `g` from `> 0` to `≤ 0` in `(t0, t1]`: zenosim's event location on
+/// one step's dense output.
 ///
 /// `g(t)` returns the guard and, when known, its time derivative (`None` disables the search
 /// for dips between samples). The start `t0` is taken as admissible whatever `g(t0)` says: the
 /// caller only ever starts a step from an admissible state.
-pub(crate) fn first_crossing(
+///
+/// ```
+/// use zenosim::events::first_crossing;
+/// // A ball thrown up at 1 m/s from the floor: back on it at t = 2/g, inside one step.
+/// let g = 9.81;
+/// let crossing = first_crossing(0.0, 1.0, |t| (t - 0.5 * g * t * t, Some(1.0 - g * t))).unwrap();
+/// assert!((crossing.t_admissible - 2.0 / g).abs() < 1e-14);
+/// ```
+pub fn first_crossing(
     t0: f64,
     t1: f64,
     mut g: impl FnMut(f64) -> (f64, Option<f64>),

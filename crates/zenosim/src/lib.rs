@@ -21,13 +21,14 @@
 //! - [`Observer`], [`Sample`], [`Trajectory`]: the trajectory, streamed as it is computed;
 //! - [`Derived`]: `M`, `A`, `λ`, the energy and `R∞` at one state;
 //! - [`integrator::Stepper`]: the Runge–Kutta pairs (DOP853, DOPRI5) with dense output;
+//! - [`events::first_crossing`]: event location on a step's dense output;
 //! - [`models`]: the paper's examples, written in Rust.
 
 mod compiled;
 mod derivatives;
 mod derived;
 mod error;
-mod events;
+pub mod events;
 mod execution;
 pub mod integrator;
 mod mechanics;

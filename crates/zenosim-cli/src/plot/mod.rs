@@ -19,6 +19,7 @@ mod style;
 mod svg;
 mod time_chart;
 mod trajectory_file;
+mod work_precision;
 mod zeno_chart;
 
 use std::io::Write;
@@ -28,6 +29,7 @@ use std::str::FromStr;
 use anyhow::{anyhow, Context};
 
 pub use canvas::Format;
+pub use work_precision::work_precision;
 
 use crate::cli::PlotArgs;
 use crate::output::OutputDir;

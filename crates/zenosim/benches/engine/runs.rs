@@ -1,9 +1,9 @@
 //! Whole runs of the paper's examples, written as Rust models, at `rtol = atol = 1e-10`.
 //!
 //! Target (issue: the engine): the paper's ball to `t = 6` in under 1 ms median on a 2-core
-//! machine. Run with `cargo bench -p zenosim --bench paper_ball`.
+//! machine.
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::Criterion;
 use std::hint::black_box;
 use zenosim::models::{BallOnSine, BouncingBall, CartPendulum, Example, SphericalPendulum};
 use zenosim::{HybridLagrangian, Simulation, SimulationOptions, Trajectory};
@@ -35,7 +35,7 @@ fn whole_run<M: HybridLagrangian>(c: &mut Criterion, name: &str, example: &Examp
     c.bench_function(name, |b| b.iter(|| black_box(sim.run(&mut ()))));
 }
 
-fn paper_ball(c: &mut Criterion) {
+pub fn paper_ball(c: &mut Criterion) {
     let paper = BallOnSine::paper();
     whole_run(c, "paper ball to t=6 (record only)", &paper);
     let sim = Simulation::new(&paper.model, &paper.q0, &paper.q_dot0, options(&paper)).unwrap();
@@ -48,7 +48,7 @@ fn paper_ball(c: &mut Criterion) {
     });
 }
 
-fn demos(c: &mut Criterion) {
+pub fn demos(c: &mut Criterion) {
     whole_run(c, "demo ball on sine to t=20", &BallOnSine::demo());
     whole_run(c, "demo cart pendulum to t=40", &CartPendulum::demo());
     whole_run(
@@ -64,6 +64,3 @@ fn demos(c: &mut Criterion) {
     };
     whole_run(c, "bouncing ball e=0.8 to t=10", &ball);
 }
-
-criterion_group!(benches, paper_ball, demos);
-criterion_main!(benches);

@@ -1,16 +1,19 @@
-//! The paper's examples, written in Rust, with the parameters of REFERENCE §3.
+//! The paper's examples, written in Rust, with the parameters of REFERENCE §3, and a chain of
+//! `n` pendulums on a wall ([`PendulumChain`], `n` up to [`crate::MAX_DIMENSION`]) for scaling.
 //!
-//! Each model comes with constructors for the paper's and the authors' demo parameters and the
-//! matching initial state and stop time ([`Example`]).
+//! Each model comes with constructors for the paper's and the authors' demo parameters (or, for
+//! the chain, its own) and the matching initial state and stop time ([`Example`]).
 
 mod ball_on_sine;
 mod bouncing_ball;
 mod cart_pendulum;
+mod pendulum_chain;
 mod spherical_pendulum;
 
 pub use ball_on_sine::BallOnSine;
 pub use bouncing_ball::BouncingBall;
 pub use cart_pendulum::CartPendulum;
+pub use pendulum_chain::PendulumChain;
 pub use spherical_pendulum::SphericalPendulum;
 
 /// A model with the initial state and stop time it is published with.

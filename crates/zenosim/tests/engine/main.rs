@@ -7,6 +7,8 @@ mod conservation;
 mod errors;
 mod liftoff;
 mod multiple_constraints;
+mod pendulum_chain;
 mod properties;
 mod random_states;
 mod review_regressions;
+mod zeno_cost;
