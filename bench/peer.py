@@ -275,6 +275,8 @@ class CartPendulum(FallingPendulum):
             return [wt, s[3], (d * f1 - b * f2) / det, (a * f2 - b * f1) / det]
         return rhs
 
+    # The free accelerations are written out again here rather than computed by calling the
+    # free rhs: a Python call per evaluation would slow the peer, which gets its best shot.
     def make_constrained_rhs(self):
         Mc, m, l, g = self.p["Mc"], self.p["m"], self.p["l"], self.p["g"]
         a, d = m * l * l, Mc + m
