@@ -150,6 +150,22 @@ where
     X: Ranged<ValueType = f64> + ValueFormatter<f64>,
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
+    mesh(chart, layer, (x_desc, y_desc), (10, 8), &tick)
+}
+
+/// [`axes`] with `labels` ticks on each axis (at most), labelled by `label`.
+pub fn mesh<DB, X, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
+    layer: &Layer,
+    (x_desc, y_desc): (&str, &str),
+    labels: (usize, usize),
+    label: &dyn Fn(&f64) -> String,
+) -> Drawn<DB>
+where
+    DB: DrawingBackend,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
     layer.set("axes", "");
     chart
         .configure_mesh()
@@ -159,10 +175,10 @@ where
         .label_style((FONT, TEXT_SIZE))
         .bold_line_style(GRID)
         .light_line_style(GRID_MINOR)
-        .x_labels(10)
-        .y_labels(8)
-        .x_label_formatter(&tick)
-        .y_label_formatter(&tick)
+        .x_labels(labels.0)
+        .y_labels(labels.1)
+        .x_label_formatter(label)
+        .y_label_formatter(label)
         .draw()
 }
 

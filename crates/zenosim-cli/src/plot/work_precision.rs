@@ -18,10 +18,8 @@ use plotters_backend::DrawingBackend;
 use serde::Deserialize;
 
 use super::canvas::{render, Drawn, Format, Picture, FONT};
-use super::chart::{frame, legend, note, Entry, Sample};
-use super::style::{
-    color, short, tick, GRID, GRID_MINOR, LABEL_SIZE, LINE_WIDTH, TEXT_SIZE, TITLE_SIZE,
-};
+use super::chart::{frame, legend, mesh, note, Entry, Sample};
+use super::style::{color, short, tick, LINE_WIDTH, TEXT_SIZE, TITLE_SIZE};
 use super::svg::Layer;
 use crate::cli::WorkPrecisionArgs;
 use crate::output::OutputDir;
@@ -263,20 +261,13 @@ impl Panel {
         let mut chart = frame(area, &caption, &entries)
             .caption(caption.clone(), (FONT, TEXT_SIZE + 3).into_font())
             .build_cartesian_2d((x_low..x_high).log_scale(), (y_low..y_high).log_scale())?;
-        layer.set("axes", "");
-        chart
-            .configure_mesh()
-            .x_desc(cost.description())
-            .y_desc(&self.error)
-            .axis_desc_style((FONT, LABEL_SIZE))
-            .label_style((FONT, TEXT_SIZE))
-            .bold_line_style(GRID)
-            .light_line_style(GRID_MINOR)
-            .x_labels(12)
-            .y_labels(12)
-            .x_label_formatter(&decade)
-            .y_label_formatter(&decade)
-            .draw()?;
+        mesh(
+            &mut chart,
+            layer,
+            (cost.description(), &self.error),
+            (12, 12),
+            &decade,
+        )?;
         for (k, series) in self.series.iter().enumerate() {
             layer.set("series", &series.label);
             let mut line: Vec<(f64, f64)> = series
