@@ -239,15 +239,11 @@ fn run_json<'a>(
     constraints: &'a [String],
     time: &Timing,
 ) -> RunJson<'a> {
-    let final_energy = zenosim::Derived::new(&file.model).map_or(f64::NAN, |d| {
-        d.energy(&run.final_state.q, &run.final_state.q_dot)
-    });
     let summary = Record {
         file,
         options,
         run,
         constraint_names: constraints,
-        final_energy,
         message: crate::run::message(run, constraints),
         trajectory: TrajectoryJson { file: "", rows: 0 },
     }

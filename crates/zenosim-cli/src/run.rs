@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use anyhow::{anyhow, Context};
 use zenosim::{
-    Derived, Error, Execution, HybridLagrangian, Outcome, OutputGrid, Simulation, SimulationOptions,
+    Error, Execution, HybridLagrangian, Outcome, OutputGrid, Simulation, SimulationOptions,
 };
 use zenosim_model::ModelFile;
 
@@ -83,16 +83,12 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         .output()?;
     let csv_finished = csv_partial.finish(csv_file).output()?;
 
-    let final_energy = Derived::new(&file.model).map_or(f64::NAN, |d| {
-        d.energy(&execution.final_state.q, &execution.final_state.q_dot)
-    });
     let message = message(&execution, &constraints);
     let summary = Record {
         file: &file,
         options: &options,
         run: &execution,
         constraint_names: &constraints,
-        final_energy,
         message: message.clone(),
         trajectory: TrajectoryJson {
             file: TRAJECTORY,

@@ -4,7 +4,7 @@
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use serde::Serialize as DeriveSerialize;
 use zenosim::{
-    ActiveSet, Completion, Event, Execution, HybridInterval, Method, Mode, Outcome,
+    ActiveSet, Completion, Derived, Event, Execution, HybridInterval, Method, Mode, Outcome,
     SimulationOptions, State, ZenoPoint, ZenoStrategy,
 };
 use zenosim_model::ModelFile;
@@ -265,7 +265,6 @@ pub struct Record<'a> {
     pub options: &'a SimulationOptions,
     pub run: &'a Execution,
     pub constraint_names: &'a [String],
-    pub final_energy: f64,
     pub message: String,
     pub trajectory: TrajectoryJson,
 }
@@ -310,7 +309,10 @@ impl<'a> Record<'a> {
                 active: active_of(run.final_mode, names),
                 q: &run.final_state.q,
                 q_dot: &run.final_state.q_dot,
-                energy: self.final_energy,
+                // NaN only for a model of a dimension zenosim refuses (never simulated).
+                energy: Derived::new(&file.model).map_or(f64::NAN, |d| {
+                    d.energy(&run.final_state.q, &run.final_state.q_dot)
+                }),
             },
             zeno: Lazy::new(&run.zeno, move |z| ZenoJson {
                 constraint: name(z.constraint),
