@@ -30,7 +30,7 @@ const MAX_REPEATS: usize = 100_000;
 
 /// `zenosim bench MODEL.toml`.
 pub fn bench(args: &BenchArgs) -> Result<u8, Failure> {
-    let load = || crate::input::load(&args.model, &args.sets, args.formulas.limits());
+    let load = || args.input.load(&args.formulas);
     let file = load().bad_input()?;
     // Reading, parsing, checking and compiling the file, as every `zenosim run` does.
     let load_time = measure(args.min_time / 4.0, || {
@@ -54,7 +54,7 @@ pub fn bench(args: &BenchArgs) -> Result<u8, Failure> {
                 .map_err(|error| {
                     anyhow!(
                         "{}: cannot simulate this model at rtol = {}, atol = {}: {error}",
-                        args.model.display(),
+                        args.input.model.display(),
                         number(rtol),
                         number(atol)
                     )

@@ -12,19 +12,19 @@ use crate::{print_report, Classify, Failure, EXIT_OK};
 
 /// Checks the model of `args` and prints the report; exit 0, or a bad-input failure.
 pub fn check(args: &CheckArgs) -> Result<u8, Failure> {
-    let file = crate::input::load(&args.model, &args.sets, args.formulas.limits()).bad_input()?;
+    let file = args.input.load(&args.formulas).bad_input()?;
     let options = file.options();
     let (q0, q_dot0) = (&file.initial.q, &file.initial.q_dot);
     Simulation::new(&file.model, q0, q_dot0, options)
         .map_err(|error| {
             anyhow!(
                 "{}: cannot simulate this model: {error}",
-                args.model.display()
+                args.input.model.display()
             )
         })
         .bad_input()?;
     let derived = Derived::new(&file.model)
-        .map_err(|error| anyhow!("{}: {error}", args.model.display()))
+        .map_err(|error| anyhow!("{}: {error}", args.input.model.display()))
         .bad_input()?;
     print_report(&report(&file, &options, &derived));
     Ok(EXIT_OK)

@@ -97,13 +97,9 @@ malformed (the message names the file, the line and the key), or bad arguments."
 /// `zenosim bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// The model file (TOML).
-    #[arg(value_name = "MODEL.toml")]
-    pub model: PathBuf,
-
-    /// Set a parameter or an initial value (a number or a formula of the parameters); repeatable.
-    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_override)]
-    pub sets: Vec<Override>,
+    /// The model file and what changes it.
+    #[command(flatten)]
+    pub input: ModelInput,
 
     /// The stop time [default: the file's simulation.t_end, else 10].
     #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = positive)]
@@ -144,17 +140,13 @@ pub struct WorkPrecisionArgs {
 /// `zenosim run`.
 #[derive(Debug, Args)]
 pub struct RunArgs {
-    /// The model file (TOML).
-    #[arg(value_name = "MODEL.toml")]
-    pub model: PathBuf,
+    /// The model file and what changes it.
+    #[command(flatten)]
+    pub input: ModelInput,
 
     /// The output directory [default: out/<model name>].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-
-    /// Set a parameter or an initial value (a number or a formula of the parameters); repeatable.
-    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_override)]
-    pub sets: Vec<Override>,
 
     /// The stop time [default: the file's simulation.t_end, else 10].
     #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = positive)]
@@ -206,6 +198,26 @@ pub struct RunArgs {
     /// Bounds on the model file's formulas.
     #[command(flatten)]
     pub formulas: FormulaLimits,
+}
+
+/// The model file and the changes `--set` makes to it: what `run`, `check` and `bench` read.
+#[derive(Debug, Args)]
+pub struct ModelInput {
+    /// The model file (TOML).
+    #[arg(value_name = "MODEL.toml")]
+    pub model: PathBuf,
+
+    /// Set a parameter or an initial value (a number or a formula of the parameters); repeatable.
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_override)]
+    pub sets: Vec<Override>,
+}
+
+impl ModelInput {
+    /// Reads and checks the model file, its formulas bounded by `formulas`, with `--set` applied
+    /// (every error names the file).
+    pub fn load(&self, formulas: &FormulaLimits) -> anyhow::Result<zenosim_model::ModelFile> {
+        crate::input::load(&self.model, &self.sets, formulas.limits())
+    }
 }
 
 /// How long and how deep a model file's formulas may be (they bound the work and the stack
@@ -276,13 +288,9 @@ pub struct PlotArgs {
 /// `zenosim check`.
 #[derive(Debug, Args)]
 pub struct CheckArgs {
-    /// The model file (TOML).
-    #[arg(value_name = "MODEL.toml")]
-    pub model: PathBuf,
-
-    /// Set a parameter or an initial value (a number or a formula of the parameters); repeatable.
-    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_override)]
-    pub sets: Vec<Override>,
+    /// The model file and what changes it.
+    #[command(flatten)]
+    pub input: ModelInput,
 
     /// Bounds on the model file's formulas.
     #[command(flatten)]

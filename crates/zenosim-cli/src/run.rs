@@ -39,7 +39,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         ))
         .bad_input();
     }
-    let file = crate::input::load(&args.model, &args.sets, args.formulas.limits()).bad_input()?;
+    let file = args.input.load(&args.formulas).bad_input()?;
     if let Some(plane) = &args.plane {
         let names: Vec<String> = file
             .model
@@ -49,7 +49,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
             .collect();
         plane
             .columns(&names)
-            .with_context(|| format!("{}", args.model.display()))
+            .with_context(|| format!("{}", args.input.model.display()))
             .bad_input()?;
     }
     let options = options(&file, args);
@@ -57,7 +57,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         .map_err(|error| {
             anyhow!(
                 "{}: cannot simulate this model: {error}",
-                args.model.display()
+                args.input.model.display()
             )
         })
         .bad_input()?;
