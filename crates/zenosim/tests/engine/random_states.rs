@@ -16,6 +16,24 @@ struct OutsideACircle {
     constraints: [Constraint; 1],
 }
 
+impl OutsideACircle {
+    /// The unit circle under `g = 9.81`, restitution 0.5, and the options of a run to `t = 4`
+    /// sampled every `dt` (inside the steps, where a pass through the circle would show).
+    fn unit(dt: f64) -> (Self, SimulationOptions) {
+        let model = Self {
+            radius: 1.0,
+            gravity: 9.81,
+            constraints: [Constraint::new("circle", 0.5)],
+        };
+        let options = SimulationOptions {
+            t_end: 4.0,
+            output: OutputGrid::Uniform(dt),
+            ..Default::default()
+        };
+        (model, options)
+    }
+}
+
 impl HybridLagrangian for OutsideACircle {
     fn dimension(&self) -> usize {
         2
@@ -54,18 +72,8 @@ impl Observer for Lowest {
 /// motion pressing in, it is a contact (a chattering Zeno point at `t = 0`).
 #[test]
 fn a_start_on_a_surface_that_presses_is_a_contact_whatever_the_sign_of_the_rounding() {
-    let (radius, gravity, speed) = (1.0, 9.81, 1.5);
-    let model = OutsideACircle {
-        radius,
-        gravity,
-        constraints: [Constraint::new("circle", 0.5)],
-    };
-    let options = SimulationOptions {
-        t_end: 4.0,
-        // Samples inside the steps, where a pass through the circle shows.
-        output: OutputGrid::Uniform(1e-3),
-        ..Default::default()
-    };
+    let (model, options) = OutsideACircle::unit(1e-3);
+    let (radius, speed) = (model.radius, 1.5);
     let mut positive_rounding = 0;
     for degrees in 5..=60 {
         // On the circle, `alpha` from the top, moving along it away from the top: the circle
@@ -109,18 +117,9 @@ fn a_start_on_a_surface_that_presses_is_a_contact_whatever_the_sign_of_the_round
 /// on the surface moving into it is an impact at `t = 0`.
 #[test]
 fn a_start_on_a_surface_moving_into_it_is_an_impact_however_soon_it_would_leave() {
-    let (radius, gravity) = (1.0, 9.81);
-    let model = OutsideACircle {
-        radius,
-        gravity,
-        constraints: [Constraint::new("circle", 0.5)],
-    };
-    let options = SimulationOptions {
-        t_end: 4.0,
-        // Samples finer than the dips.
-        output: OutputGrid::Uniform(1e-4),
-        ..Default::default()
-    };
+    // Samples finer than the dips.
+    let (model, options) = OutsideACircle::unit(1e-4);
+    let radius = model.radius;
     for degrees in [30, 45, 60, 75] {
         for normal_speed in [1e-3, 1e-2, 1e-1] {
             // On the circle `beta` below the horizontal, moving along it at 0.4 and into it at
