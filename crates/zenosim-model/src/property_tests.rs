@@ -305,9 +305,14 @@ proptest! {
         // Branches on values (abs, min, max) cannot be traced. Nor can an operation whose
         // result depends on the sign of a zero (atan2, a division, a power) of a zero constant
         // that a simplification may have signed otherwise than num-dual (`ln(0 * x)` needs
-        // `1/(±0)`). Any other formula is traced in full.
+        // `1/(±0)`). Nor can the motion held on a constraint whose gradient is identically
+        // zero (a formula without a coordinate, or `x1 - x1`): it divides by `A M⁻¹ Aᵀ = 0`
+        // (a simulation refuses such a constraint at its start). Any other formula is traced in
+        // full.
         let branches = ["abs", "min", "max"].iter().any(|f| t.contains(f));
-        if !branches && !tree.has_zero_constant() {
+        let (_, gradient) = zenosim::Derived::new(&slow).unwrap().constraint(0, &q);
+        let flat = gradient.iter().all(|&a| a == 0.0);
+        if !branches && !tree.has_zero_constant() && !flat {
             prop_assert_eq!(traced, parts, "{}", t);
         }
         let exact = !["/", "^", "pow", "tanh"].iter().any(|op| t.contains(op));

@@ -281,8 +281,9 @@ t_end = 5.0
 "#;
     let file = parse_model("walls.toml", source, &[]).unwrap_or_else(|e| panic!("{e}"));
     let compiled = file.model.compiled_derivatives().expect("compiled");
-    // The Lagrangian's terms and the energy; not the constraint's derivatives nor its guard.
-    assert_eq!(compiled.coverage(), (2, 4));
+    // The Lagrangian's terms, the energy and the free motion; not the constraint's
+    // derivatives, its guard, the motion held on it nor its direction.
+    assert_eq!(compiled.coverage(), (3, 7));
     let run = run_file(&file);
     assert_eq!(run.outcome, Outcome::Finished);
     let impacts: Vec<f64> = run

@@ -8,12 +8,20 @@
 //! what the outputs need as a program. Running it gives the same numbers, bit for bit, as the
 //! differentiation it was traced from, up to the sign of a zero; see [`crate::trace`] for the
 //! simplifications and why they cannot change a result otherwise.
+//!
+//! The equations of motion are traced whole ([`crate::motion`]): derivatives, `M`'s Cholesky
+//! factorisation and the solves, so that a right-hand side is one program. Where `M` is
+//! constant (a point mass in Cartesian coordinates) the factorisation folds to constants, and
+//! the paper's ball in free flight costs no operation at all.
 
 use crate::derivatives::{
     constraint_parts_of, energy_of, guard_along_of, lagrangian_terms_of, with_dimension,
     ConstraintParts, LagrangianTerms, MAX_DIMENSION,
 };
 use crate::model::HybridLagrangian;
+use crate::motion::{
+    constrained_motion_of, direction_of, free_motion_of, ConstrainedMotion, Direction, FreeMotion,
+};
 use crate::trace::{self, Bin, Node, Sym, Tape, Term, Un};
 use nalgebra::{SMatrix, SVector};
 
@@ -49,20 +57,6 @@ struct Program {
     /// Registers that must not be zero for the outputs to be the dual numbers' (possibly
     /// mis-signed zeros that a sign-sensitive operation takes).
     nonzero: Box<[u32]>,
-}
-
-/// The outputs of one run of a [`Program`].
-struct Outputs<'a> {
-    registers: &'a [f64],
-    index: &'a [u32],
-}
-
-impl Outputs<'_> {
-    /// Output `k`.
-    #[inline(always)]
-    fn get(&self, k: usize) -> f64 {
-        self.registers[self.index[k] as usize]
-    }
 }
 
 impl Program {
@@ -197,19 +191,40 @@ impl Program {
         }
     }
 
-    fn registers(&self) -> usize {
-        self.inputs + self.constants.len() + self.steps.len()
+    /// Traces `f`, whose result is laid out by its [`Outputs`](crate::motion::Outputs).
+    fn trace_outputs<O: crate::motion::Outputs<Sym>>(
+        inputs: usize,
+        f: impl FnOnce(&[Sym]) -> O,
+    ) -> Option<Program> {
+        Program::trace(inputs, |x| {
+            let mut out = Vec::new();
+            f(x).write(&mut out);
+            out
+        })
     }
 
-    /// Runs the program on `(q, q̇)` and hands its outputs to `read`; `None` when a witness says
-    /// the dual numbers would not give these outputs here (the caller uses them instead).
+    /// Runs the program and reads its outputs as an `O`.
+    fn run_outputs<O: crate::motion::Outputs<f64>>(&self, q: &[f64], q_dot: &[f64]) -> Option<O> {
+        self.run(q, q_dot, O::read)
+    }
+
+    /// The registers a run needs: the inputs, the constants, one per step, then the outputs
+    /// gathered in order.
+    fn registers(&self) -> usize {
+        self.inputs + self.constants.len() + self.steps.len() + self.outputs.len()
+    }
+
+    /// Runs the program on `(q, q̇)` and hands its outputs, in order, to `read`; `None` when a
+    /// witness says the dual numbers would not give these outputs here (the caller uses them
+    /// instead).
     #[inline]
-    fn run<R>(&self, q: &[f64], q_dot: &[f64], read: impl FnOnce(&Outputs) -> R) -> Option<R> {
+    fn run<R>(&self, q: &[f64], q_dot: &[f64], read: impl FnOnce(&[f64]) -> R) -> Option<R> {
         // Registers on the stack for the sizes models have; the heap beyond.
         match self.registers() {
-            len @ 0..=16 => self.run_in(&mut [0.0; 16][..len], q, q_dot, read),
-            len @ 17..=64 => self.run_in(&mut [0.0; 64][..len], q, q_dot, read),
-            len @ 65..=512 => self.run_in(&mut [0.0; 512][..len], q, q_dot, read),
+            len @ 0..=32 => self.run_in(&mut [0.0; 32][..len], q, q_dot, read),
+            len @ 33..=64 => self.run_in(&mut [0.0; 64][..len], q, q_dot, read),
+            len @ 65..=128 => self.run_in(&mut [0.0; 128][..len], q, q_dot, read),
+            len @ 129..=512 => self.run_in(&mut [0.0; 512][..len], q, q_dot, read),
             len => self.run_in(&mut vec![0.0; len], q, q_dot, read),
         }
     }
@@ -220,12 +235,11 @@ impl Program {
         regs: &mut [f64],
         q: &[f64],
         q_dot: &[f64],
-        read: impl FnOnce(&Outputs) -> R,
+        read: impl FnOnce(&[f64]) -> R,
     ) -> Option<R> {
-        let n = q.len();
+        let (n, base) = (q.len(), self.inputs + self.constants.len());
         regs[..n].copy_from_slice(q);
-        regs[n..n + q_dot.len()].copy_from_slice(q_dot);
-        let base = self.inputs + self.constants.len();
+        regs[n..self.inputs].copy_from_slice(q_dot);
         regs[self.inputs..base].copy_from_slice(&self.constants);
         for (i, step) in self.steps.iter().enumerate() {
             let x = |k: u32| regs[k as usize];
@@ -250,10 +264,11 @@ impl Program {
         if !(finite && nonzero) {
             return None;
         }
-        Some(read(&Outputs {
-            registers: regs,
-            index: &self.outputs,
-        }))
+        let (values, outputs) = regs.split_at_mut(base + self.steps.len());
+        for (o, &r) in outputs.iter_mut().zip(self.outputs.iter()) {
+            *o = values[r as usize];
+        }
+        Some(read(outputs))
     }
 }
 
@@ -266,8 +281,9 @@ impl Program {
 /// numbers. The results are the same, bit for bit (up to the sign of a zero): where a value the
 /// programs simplified away is not finite, zenosim differentiates instead.
 ///
-/// Each part (the Euler–Lagrange terms, each constraint's derivatives, each guard, the energy)
-/// is traced on its own. A part whose code branches on a value (`abs`, `min`, `max`, a
+/// Each part (the Euler–Lagrange terms, each constraint's derivatives, each guard, the energy,
+/// the free motion, the motion held on each constraint and each constraint's direction) is
+/// traced on its own. A part whose code branches on a value (`abs`, `min`, `max`, a
 /// comparison) cannot be traced; zenosim then differentiates that part as usual.
 #[derive(Clone, Debug)]
 pub struct Compiled {
@@ -279,6 +295,12 @@ pub struct Compiled {
     /// Per constraint: `h`, `ḣ`, `ḧ` along free flight.
     guards: Vec<Option<Program>>,
     energy: Option<Program>,
+    /// The free motion.
+    free: Option<Program>,
+    /// Per constraint: the motion held on it.
+    held: Vec<Option<Program>>,
+    /// Per constraint: its direction.
+    directions: Vec<Option<Program>>,
 }
 
 impl Compiled {
@@ -294,6 +316,9 @@ impl Compiled {
                 constraints: vec![None; count],
                 guards: vec![None; count],
                 energy: None,
+                free: None,
+                held: vec![None; count],
+                directions: vec![None; count],
             };
         }
         with_dimension!(n, N => Self::trace_n::<N, L>(model))
@@ -338,12 +363,32 @@ impl Compiled {
         let energy = Program::trace(2 * N, |x| {
             vec![energy_of::<Sym, L>(model, &x[..N], &x[N..])]
         });
+        let free = Program::trace_outputs(2 * N, |x| {
+            free_motion_of::<Sym, N, L>(model, &x[..N], &x[N..])
+        });
+        let held = (0..count)
+            .map(|index| {
+                Program::trace_outputs(2 * N, |x| {
+                    constrained_motion_of::<Sym, N, L>(model, index, &x[..N], &x[N..])
+                })
+            })
+            .collect();
+        let directions = (0..count)
+            .map(|index| {
+                Program::trace_outputs(2 * N, |x| {
+                    direction_of::<Sym, N, L>(model, index, &x[..N], &x[N..])
+                })
+            })
+            .collect();
         Compiled {
             dimension: N,
             terms,
             constraints,
             guards,
             energy,
+            free,
+            held,
+            directions,
         }
     }
 
@@ -355,26 +400,72 @@ impl Compiled {
         trace::active()
     }
 
-    /// How many of the parts were traced, and how many there are: the Euler–Lagrange terms, two
-    /// per constraint (its derivatives and its guard), and the energy.
-    pub fn coverage(&self) -> (usize, usize) {
-        let parts = [&self.terms, &self.energy]
+    /// Every part, traced or not.
+    fn parts(&self) -> impl Iterator<Item = &Option<Program>> {
+        [&self.terms, &self.energy, &self.free]
             .into_iter()
             .chain(&self.constraints)
-            .chain(&self.guards);
-        let total = 2 + 2 * self.constraints.len();
-        (parts.filter(|p| p.is_some()).count(), total)
+            .chain(&self.guards)
+            .chain(&self.held)
+            .chain(&self.directions)
+    }
+
+    /// How many of the parts were traced, and how many there are: the Euler–Lagrange terms, the
+    /// energy and the free motion, and four per constraint (its derivatives, its guard, the
+    /// motion held on it and its direction).
+    pub fn coverage(&self) -> (usize, usize) {
+        let total = self.parts().count();
+        (self.parts().filter(|p| p.is_some()).count(), total)
     }
 
     /// The number of `f64` operations of all programs together.
     pub fn operations(&self) -> usize {
-        [&self.terms, &self.energy]
-            .into_iter()
-            .chain(&self.constraints)
-            .chain(&self.guards)
-            .flatten()
-            .map(|p| p.steps.len())
-            .sum()
+        self.parts().flatten().map(|p| p.steps.len()).sum()
+    }
+
+    /// The number of operations of the free motion's program, if traced.
+    #[cfg(test)]
+    pub(crate) fn free_operations(&self) -> Option<usize> {
+        self.free.as_ref().map(|p| p.steps.len())
+    }
+
+    /// The program of dimension `N` in `slot`, if traced.
+    fn program<'c, const N: usize>(
+        &self,
+        slot: Option<&'c Option<Program>>,
+    ) -> Option<&'c Program> {
+        slot?.as_ref().filter(|_| self.dimension == N)
+    }
+
+    /// The free motion at `(q, q̇)`, if traced for dimension `N`.
+    pub(crate) fn free_motion<const N: usize>(
+        &self,
+        q: &[f64],
+        q_dot: &[f64],
+    ) -> Option<FreeMotion<N>> {
+        self.program::<N>(Some(&self.free))?.run_outputs(q, q_dot)
+    }
+
+    /// The motion held on constraint `index` at `(q, q̇)`, if traced for dimension `N`.
+    pub(crate) fn constrained_motion<const N: usize>(
+        &self,
+        index: usize,
+        q: &[f64],
+        q_dot: &[f64],
+    ) -> Option<ConstrainedMotion<N>> {
+        self.program::<N>(self.held.get(index))?
+            .run_outputs(q, q_dot)
+    }
+
+    /// Constraint `index`'s direction at `(q, q̇)`, if traced for dimension `N`.
+    pub(crate) fn direction<const N: usize>(
+        &self,
+        index: usize,
+        q: &[f64],
+        q_dot: &[f64],
+    ) -> Option<Direction<N>> {
+        self.program::<N>(self.directions.get(index))?
+            .run_outputs(q, q_dot)
     }
 
     /// `M` and the force at `(q, q̇)`, if traced for dimension `N`.
@@ -389,12 +480,12 @@ impl Compiled {
             let mut k = 0;
             for i in 0..N {
                 for j in i..N {
-                    mass[(i, j)] = out.get(k);
-                    mass[(j, i)] = out.get(k);
+                    mass[(i, j)] = out[k];
+                    mass[(j, i)] = out[k];
                     k += 1;
                 }
             }
-            let force = SVector::<f64, N>::from_fn(|i, _| out.get(k + i));
+            let force = SVector::<f64, N>::from_column_slice(&out[k..k + N]);
             LagrangianTerms { mass, force }
         })
     }
@@ -412,10 +503,10 @@ impl Compiled {
             .as_ref()
             .filter(|_| self.dimension == N)?;
         program.run(q, q_dot, |out| ConstraintParts {
-            h: out.get(0),
-            gradient: SVector::<f64, N>::from_fn(|i, _| out.get(1 + i)),
-            a_q_dot: out.get(N + 1),
-            hessian_q_dot: SVector::<f64, N>::from_fn(|i, _| out.get(N + 2 + i)),
+            h: out[0],
+            gradient: SVector::<f64, N>::from_column_slice(&out[1..N + 1]),
+            a_q_dot: out[N + 1],
+            hessian_q_dot: SVector::<f64, N>::from_column_slice(&out[N + 2..2 * N + 2]),
         })
     }
 
@@ -431,12 +522,12 @@ impl Compiled {
             .get(index)?
             .as_ref()
             .filter(|_| q.len() == self.dimension)?;
-        program.run(q, q_dot, |out| (out.get(0), out.get(1), out.get(2)))
+        program.run(q, q_dot, |out| (out[0], out[1], out[2]))
     }
 
     /// The energy at `(q, q̇)`, if traced.
     pub(crate) fn energy(&self, q: &[f64], q_dot: &[f64]) -> Option<f64> {
         let program = self.energy.as_ref().filter(|_| q.len() == self.dimension)?;
-        program.run(q, q_dot, |out| out.get(0))
+        program.run(q, q_dot, |out| out[0])
     }
 }

@@ -62,18 +62,12 @@ pub(crate) struct LagrangianTerms<const N: usize, T = f64> {
     pub force: SVector<T, N>,
 }
 
-/// One constraint's terms at `(q, q̇)`.
+/// One constraint at `q`: `h` and its gradient.
 pub(crate) struct ConstraintTerms<const N: usize> {
     /// `h(q)`.
     pub h: f64,
     /// `A = ∂h/∂q` (as a column).
     pub gradient: SVector<f64, N>,
-    /// `A q̇`.
-    pub a_q_dot: f64,
-    /// `Ȧ q̇ = q̇ᵀ ∇²h q̇`.
-    pub a_dot_q_dot: f64,
-    /// `|∇²h q̇|`.
-    pub hessian_q_dot_norm: f64,
 }
 
 /// The derivatives of one constraint that [`ConstraintTerms`] is made of, over any number type.
@@ -86,19 +80,6 @@ pub(crate) struct ConstraintParts<const N: usize, T> {
     pub a_q_dot: T,
     /// `∇²h q̇`.
     pub hessian_q_dot: SVector<T, N>,
-}
-
-impl<const N: usize> ConstraintParts<N, f64> {
-    fn finish(self, q_dot: &[f64]) -> ConstraintTerms<N> {
-        let v = SVector::<f64, N>::from_column_slice(&q_dot[..N]);
-        ConstraintTerms {
-            h: self.h,
-            gradient: self.gradient,
-            a_q_dot: self.a_q_dot,
-            a_dot_q_dot: self.hessian_q_dot.dot(&v),
-            hessian_q_dot_norm: self.hessian_q_dot.norm(),
-        }
-    }
 }
 
 /// 1 or 0 as a `T`: a seed of a dual number.
@@ -236,6 +217,7 @@ pub(crate) fn mass_matrix<const N: usize, L: HybridLagrangian>(
 }
 
 /// `M` and the Euler–Lagrange force: compiled if the model has them, else differentiated.
+#[cfg(test)]
 pub(crate) fn lagrangian_terms<const N: usize, L: HybridLagrangian>(
     model: &L,
     q: &[f64],
@@ -250,21 +232,24 @@ pub(crate) fn lagrangian_terms<const N: usize, L: HybridLagrangian>(
     }
 }
 
-/// `h`, `A`, `A q̇` and `Ȧ q̇` of constraint `index`: compiled or differentiated.
+/// `h` and `A` of constraint `index` at `q`: compiled or differentiated.
 pub(crate) fn constraint_terms<const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
     q: &[f64],
-    q_dot: &[f64],
 ) -> ConstraintTerms<N> {
-    match model
+    let q_dot = [0.0; N];
+    let parts = match model
         .compiled()
-        .and_then(|c| c.constraint_parts::<N>(index, q, q_dot))
+        .and_then(|c| c.constraint_parts::<N>(index, q, &q_dot))
     {
         Some(parts) => parts,
-        None => constraint_parts_of::<f64, N, L>(model, index, q, q_dot),
+        None => constraint_parts_of::<f64, N, L>(model, index, q, &q_dot),
+    };
+    ConstraintTerms {
+        h: parts.h,
+        gradient: parts.gradient,
     }
-    .finish(q_dot)
 }
 
 /// `h`, `A q̇` and `Ȧ q̇` of constraint `index`, without the full gradient: the guard and its
@@ -309,6 +294,7 @@ mod tests {
     use super::*;
     use crate::model::{Constraint, Scalar};
     use crate::models::{BallOnSine, BouncingBall, CartPendulum, PendulumChain, SphericalPendulum};
+    use crate::motion::{constrained_motion_of, direction_of, free_motion_of, Outputs};
     use proptest::prelude::*;
 
     const STEP1: f64 = 1e-5;
@@ -421,7 +407,7 @@ mod tests {
         for index in 0..model.constraints().len() {
             let hq = |x: &[f64]| model.constraint::<f64>(index, x);
             let h = hq(q);
-            let c = constraint_terms::<N, L>(model, index, q, v);
+            let c = full_terms::<N, L>(model, index, q, v);
             let h_scale = h.abs() + 1.0;
             // The real part is the same arithmetic as the f64 evaluation.
             prop_assert!((c.h - h).abs() <= 1e-14 * h_scale, "h: {} vs {}", c.h, h);
@@ -492,6 +478,30 @@ mod tests {
         }
     }
 
+    /// `h`, `A`, `A q̇` and `Ȧ q̇` of constraint `index` as the engine computes them (the motion
+    /// held on the constraint).
+    struct FullTerms<const N: usize> {
+        h: f64,
+        gradient: SVector<f64, N>,
+        a_q_dot: f64,
+        a_dot_q_dot: f64,
+    }
+
+    fn full_terms<const N: usize, L: HybridLagrangian>(
+        model: &L,
+        index: usize,
+        q: &[f64],
+        v: &[f64],
+    ) -> FullTerms<N> {
+        let motion = crate::motion::constrained_motion::<N, L>(model, index, q, v);
+        FullTerms {
+            h: motion.direction.h,
+            gradient: motion.direction.gradient,
+            a_q_dot: motion.direction.a_q_dot,
+            a_dot_q_dot: motion.a_dot_q_dot,
+        }
+    }
+
     /// Bitwise equality, NaN included (a compiled part must give the very same numbers).
     fn same_bits(what: &str, compiled: f64, differentiated: f64) -> Result<(), TestCaseError> {
         prop_assert!(
@@ -542,6 +552,52 @@ mod tests {
             compiled.energy(q, v).expect("traced"),
             energy_of::<f64, L>(model, q, v),
         )?;
+        // A program refuses (None, and zenosim computes instead) only where the motion divides
+        // by a zero that the tracer may have signed differently: a zero pivot of M, or s = 0.
+        let zero_divisor =
+            |d: &crate::motion::Direction<N>| d.s == 0.0 || d.pivots.iter().any(|&p| p == 0.0);
+        same_outputs(
+            "free motion",
+            compiled.free_motion::<N>(q, v).as_ref(),
+            &free_motion_of::<f64, N, L>(model, q, v),
+            |m| m.pivots.iter().any(|&p| p == 0.0),
+        )?;
+        for index in 0..model.constraints().len() {
+            same_outputs(
+                &format!("motion held on constraint {index}"),
+                compiled.constrained_motion::<N>(index, q, v).as_ref(),
+                &constrained_motion_of::<f64, N, L>(model, index, q, v),
+                |m| zero_divisor(&m.direction),
+            )?;
+            same_outputs(
+                &format!("direction of constraint {index}"),
+                compiled.direction::<N>(index, q, v).as_ref(),
+                &direction_of::<f64, N, L>(model, index, q, v),
+                zero_divisor,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Every output of a compiled motion against the motion computed over `f64`, bit for bit;
+    /// a program may refuse only where `refusable` says so of the computed motion.
+    fn same_outputs<O: Outputs<f64>>(
+        what: &str,
+        compiled: Option<&O>,
+        computed: &O,
+        refusable: impl Fn(&O) -> bool,
+    ) -> Result<(), TestCaseError> {
+        let Some(compiled) = compiled else {
+            prop_assert!(refusable(computed), "{what}: the program refused");
+            return Ok(());
+        };
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        compiled.write(&mut a);
+        computed.write(&mut b);
+        prop_assert_eq!(a.len(), b.len());
+        for (k, (x, y)) in a.into_iter().zip(b).enumerate() {
+            same_bits(&format!("{what}, output {k}"), x, y)?;
+        }
         Ok(())
     }
 
@@ -583,8 +639,13 @@ mod tests {
             constraints: [Constraint::new("wall", 0.5)],
         };
         let compiled = crate::Compiled::trace_n::<1, _>(&model);
-        // The Lagrangian terms and the energy traced; the constraint and its guard did not.
-        assert_eq!(compiled.coverage(), (2, 4));
+        // The Lagrangian terms, the energy and the free motion traced; the constraint, its
+        // guard, the motion held on it and its direction did not.
+        assert_eq!(compiled.coverage(), (3, 7));
+        assert!(compiled
+            .constrained_motion::<1>(0, &[0.3], &[1.0])
+            .is_none());
+        assert!(compiled.free_motion::<1>(&[0.3], &[1.0]).is_some());
         assert!(compiled.constraint_parts::<1>(0, &[0.3], &[1.0]).is_none());
         assert!(compiled.guard_along(0, &[0.3], &[1.0]).is_none());
         assert!(compiled.lagrangian_terms::<1>(&[0.3], &[1.0]).is_some());
@@ -596,13 +657,17 @@ mod tests {
     fn the_paper_ball_compiles_to_a_few_operations() {
         let model = BallOnSine::paper().model;
         let compiled = crate::Compiled::trace_n::<3, _>(&model);
-        assert_eq!(compiled.coverage(), (4, 4));
-        // M = m I and the force (0, 0, −m g) are constants: the Euler–Lagrange terms need no
-        // operation at all; h, A, ∇²h q̇ and the guard need a handful.
+        assert_eq!(compiled.coverage(), (7, 7));
+        // M = m I and the force (0, 0, −m g) are constants: the Euler–Lagrange terms and the
+        // free motion need no operation at all (M's factorisation folds away); h, A, ∇²h q̇, the
+        // guard, the motion held on the surface and its direction need a handful.
+        assert_eq!(compiled.free_operations(), Some(0));
         let terms = compiled.lagrangian_terms::<3>(&[0.1, 0.2, 0.3], &[1.0, 2.0, 3.0]);
         assert!(terms.is_some());
+        // 59 when written: 9 each for the constraint, its guard and its direction, 17 for the
+        // motion held on the surface, 15 for the energy.
         assert!(
-            compiled.operations() < 40,
+            compiled.operations() < 64,
             "{} operations",
             compiled.operations()
         );
@@ -666,7 +731,7 @@ mod tests {
                     );
                 }
             }
-            let c = constraint_terms::<5, _>(&chain, 0, &q, &v);
+            let c = full_terms::<5, _>(&chain, 0, &q, &v);
             let h = l * q.iter().map(|t| t.sin()).sum::<f64>() - 1.1;
             prop_assert!((c.h - h).abs() <= 1e-14 * 5.0);
             for (a, theta) in c.gradient.iter().zip(&q) {
@@ -701,7 +766,7 @@ mod tests {
                 constraints: [Constraint::new("a", 0.5), Constraint::new("b", 0.5)],
             };
             let compiled = crate::Compiled::trace_n::<2, _>(&coupled);
-            prop_assert_eq!(compiled.coverage(), (6, 6));
+            prop_assert_eq!(compiled.coverage(), (11, 11));
             check_compiled::<2, _>(&coupled, &compiled, &q[..2], &v[..2])?;
         }
 
@@ -722,7 +787,7 @@ mod tests {
             prop_assert_eq!(terms.force[0], 0.0);
             prop_assert_eq!(terms.force[1], 0.0);
             prop_assert!((terms.force[2] + m * g).abs() <= 1e-14 * m * g);
-            let c = constraint_terms::<3, _>(&model, 0, &q, &v);
+            let c = full_terms::<3, _>(&model, 0, &q, &v);
             let exact = |a: f64, b: f64| (a - b).abs() <= 1e-15 * (1.0 + b.abs());
             prop_assert!(exact(c.h, q[2] - q[1].sin()));
             prop_assert!(exact(c.gradient[0], 0.0) && exact(c.gradient[2], 1.0));

@@ -34,6 +34,7 @@ pub mod integrator;
 mod mechanics;
 mod model;
 pub mod models;
+mod motion;
 mod observer;
 mod options;
 mod runner;

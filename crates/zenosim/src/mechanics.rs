@@ -7,11 +7,12 @@
 //!   `−Aᵀλ`, so the constraint pushes while `λ ≤ 0`, and `λ = ḧ_free / (A M⁻¹ Aᵀ)`;
 //! - impact `q̇⁺ = q̇ − (1+e) (A q̇)/(A M⁻¹ Aᵀ) M⁻¹ Aᵀ`, so `A q̇⁺ = −e A q̇⁻`.
 
-use crate::derivatives::{
-    constraint_terms, lagrangian_terms, mass_matrix, with_dimension, ConstraintTerms,
-};
+use crate::derivatives::{constraint_terms, mass_matrix, with_dimension};
 use crate::model::HybridLagrangian;
-use nalgebra::{Cholesky, SMatrix, SVector};
+use crate::motion::{
+    check_pivots, constrained_motion, direction, free_motion, pivots, Direction, PivotError,
+};
+use nalgebra::SVector;
 
 /// A failure of the mechanics at one state; the caller adds the time and the state.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -39,32 +40,24 @@ pub(crate) struct Residuals {
     pub a_q_dot: f64,
 }
 
-fn cholesky<const N: usize>(
-    m: SMatrix<f64, N, N>,
-) -> Result<Cholesky<f64, nalgebra::Const<N>>, DynamicsError> {
-    if !m.iter().all(|x| x.is_finite()) {
-        return Err(DynamicsError::NonFinite);
+impl From<PivotError> for DynamicsError {
+    fn from(err: PivotError) -> Self {
+        match err {
+            PivotError::NonFinite => DynamicsError::NonFinite,
+            PivotError::NotPositiveDefinite => DynamicsError::MassMatrix,
+        }
     }
-    Cholesky::new(m).ok_or(DynamicsError::MassMatrix)
 }
 
-/// `w = M⁻¹ Aᵀ` and `s = A M⁻¹ Aᵀ`, or an error when `s` vanishes.
-fn constraint_direction<const N: usize>(
-    chol: &Cholesky<f64, nalgebra::Const<N>>,
-    c: &ConstraintTerms<N>,
-    index: usize,
-) -> Result<(SVector<f64, N>, f64), DynamicsError> {
-    let w = chol.solve(&c.gradient);
-    let s = c.gradient.dot(&w);
+/// Checks a constraint's direction: `M` positive definite, and `s = A M⁻¹ Aᵀ` away from 0.
+fn check_direction<const N: usize>(d: &Direction<N>, index: usize) -> Result<(), DynamicsError> {
+    check_pivots(&d.pivots)?;
+    let (s, gradient_norm) = (d.s, d.gradient.norm());
     // s = |A|²/μ with μ an eigenvalue of M: compare with |A|² · |w|/|A| to be scale-free.
-    if s.is_nan()
-        || s <= 0.0
-        || s <= 1e-14 * c.gradient.norm() * w.norm()
-        || c.gradient.norm() == 0.0
-    {
+    if s.is_nan() || s <= 0.0 || s <= 1e-14 * gradient_norm * d.w.norm() || gradient_norm == 0.0 {
         return Err(DynamicsError::DegenerateConstraint { constraint: index });
     }
-    Ok((w, s))
+    Ok(())
 }
 
 /// A constraint's normal response, from [`Mechanics::normal`].
@@ -158,16 +151,18 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         active: Option<usize>,
         q_ddot: &mut [f64],
     ) -> Result<f64, DynamicsError> {
-        let terms = lagrangian_terms::<N, L>(self.model, q, q_dot);
-        let chol = cholesky(terms.mass)?;
-        let mut acc = chol.solve(&terms.force);
-        let mut lambda = 0.0;
-        if let Some(index) = active {
-            let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
-            let (w, s) = constraint_direction(&chol, &c, index)?;
-            lambda = (c.gradient.dot(&acc) + c.a_dot_q_dot) / s;
-            acc -= w * lambda;
-        }
+        let (acc, lambda) = match active {
+            None => {
+                let motion = free_motion::<N, L>(self.model, q, q_dot);
+                check_pivots(&motion.pivots)?;
+                (motion.acc, 0.0)
+            }
+            Some(index) => {
+                let motion = constrained_motion::<N, L>(self.model, index, q, q_dot);
+                check_direction(&motion.direction, index)?;
+                (motion.acc, motion.lambda)
+            }
+        };
         if !acc.iter().all(|x| x.is_finite()) || !lambda.is_finite() {
             return Err(DynamicsError::NonFinite);
         }
@@ -186,23 +181,23 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         w: &mut [f64],
     ) -> Result<Normal, DynamicsError> {
         with_dimension!(self.n, N => {
-            let terms = lagrangian_terms::<N, L>(self.model, q, q_dot);
-            let chol = cholesky(terms.mass)?;
-            let acc = chol.solve(&terms.force);
-            let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
-            let (dir, s) = constraint_direction(&chol, &c, index)?;
-            w[..N].copy_from_slice(dir.as_slice());
+            let motion = constrained_motion::<N, L>(self.model, index, q, q_dot);
+            let d = &motion.direction;
+            check_direction(d, index)?;
+            w[..N].copy_from_slice(d.w.as_slice());
             let speed = SVector::<f64, N>::from_column_slice(&q_dot[..N]).norm();
-            let gradient_norm = c.gradient.norm();
+            let gradient_norm = d.gradient.norm();
             const ROUND_OFF: f64 = 64.0 * f64::EPSILON;
+            let curvature = motion.hessian_q_dot.norm();
             let normal = Normal {
-                a_q_dot: c.a_q_dot,
-                h_ddot_free: c.gradient.dot(&acc) + c.a_dot_q_dot,
-                s,
+                a_q_dot: d.a_q_dot,
+                h_ddot_free: motion.h_ddot_free,
+                s: d.s,
                 gradient_norm,
-                curvature: if speed > 0.0 { c.hessian_q_dot_norm / speed } else { 0.0 },
+                curvature: if speed > 0.0 { curvature / speed } else { 0.0 },
                 a_q_dot_round_off: ROUND_OFF * gradient_norm * speed,
-                h_ddot_round_off: ROUND_OFF * (gradient_norm * acc.norm() + c.a_dot_q_dot.abs()),
+                h_ddot_round_off: ROUND_OFF
+                    * (gradient_norm * motion.acc_free.norm() + motion.a_dot_q_dot.abs()),
             };
             if normal.h_ddot_free.is_finite() { Ok(normal) } else { Err(DynamicsError::NonFinite) }
         })
@@ -217,11 +212,10 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         q_dot: &mut [f64],
     ) -> Result<(), DynamicsError> {
         with_dimension!(self.n, N => {
-            let chol = cholesky(mass_matrix::<N, L>(self.model, q, q_dot))?;
-            let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
-            let (w, s) = constraint_direction(&chol, &c, index)?;
-            let scale = (1.0 + e) * c.a_q_dot / s;
-            for (v, wi) in q_dot.iter_mut().zip(w.iter()) {
+            let d = direction::<N, L>(self.model, index, q, q_dot);
+            check_direction(&d, index)?;
+            let scale = (1.0 + e) * d.a_q_dot / d.s;
+            for (v, wi) in q_dot.iter_mut().zip(d.w.iter()) {
                 *v -= scale * wi;
             }
             Ok(())
@@ -249,17 +243,19 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         const MAX_NEWTON: usize = 30;
         // Scaled by how much the coordinates weigh in h (|h| + Σ|A_i q_i|, in h's units, and
         // divided by |A| in q's): a coordinate h ignores must not loosen the stop.
-        let c0 = constraint_terms::<N, L>(self.model, index, q, q_dot);
-        let h_scale = guard_scale(c0.h, c0.gradient.as_slice(), q).max(1.0);
-        let q_scale = (h_scale / c0.gradient.norm()).max(1.0);
+        let mut c = direction::<N, L>(self.model, index, q, q_dot);
+        let h_scale = guard_scale(c.h, c.gradient.as_slice(), q).max(1.0);
+        let q_scale = (h_scale / c.gradient.norm()).max(1.0);
         let mut best = f64::INFINITY;
-        for _ in 0..MAX_NEWTON {
-            let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
+        for iteration in 0..MAX_NEWTON {
+            if iteration > 0 {
+                c = direction::<N, L>(self.model, index, q, q_dot);
+            }
             if !c.h.is_finite() {
                 return Err(DynamicsError::NonFinite);
             }
-            let chol = cholesky(mass_matrix::<N, L>(self.model, q, q_dot))?;
-            let (w, s) = constraint_direction(&chol, &c, index)?;
+            check_direction(&c, index)?;
+            let (w, s) = (c.w, c.s);
             let step = c.h / s;
             // Converged: the Newton step is at round-off, or h has stopped decreasing. Then the
             // velocity: the plastic impact at this position, with this factorisation.
@@ -286,7 +282,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
                 *x -= step * wi;
             }
         }
-        let c = constraint_terms::<N, L>(self.model, index, q, q_dot);
+        let c = constraint_terms::<N, L>(self.model, index, q);
         Err(DynamicsError::Projection {
             constraint: index,
             residual: c.h.abs(),
@@ -303,15 +299,14 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         with_dimension!(self.n, N => {
             let m = mass_matrix::<N, L>(self.model, q, q_dot);
             out[..N * N].copy_from_slice(m.as_slice());
-            cholesky(m).map(|_| ())
+            Ok(check_pivots(&pivots(&m))?)
         })
     }
 
     /// `A = ∂h/∂q` of constraint `index` into `out`; returns `h`.
     pub fn constraint_gradient(&self, index: usize, q: &[f64], out: &mut [f64]) -> f64 {
         with_dimension!(self.n, N => {
-            let zero = [0.0; N];
-            let c = constraint_terms::<N, L>(self.model, index, q, &zero);
+            let c = constraint_terms::<N, L>(self.model, index, q);
             out[..N].copy_from_slice(c.gradient.as_slice());
             c.h
         })

@@ -376,14 +376,12 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
     /// Leaves the stepper at `t`.
     fn state_at(&mut self, t: f64) -> Result<Vec<f64>, Error> {
         let t0 = self.stepper.t_previous();
-        let y0 = self.stepper.y_previous().to_vec();
         if t <= t0 {
-            return Ok(y0);
+            return Ok(self.stepper.y_previous().to_vec());
         }
         let mut eqs = self.equations();
         let h = t - t0;
-        let started = self.stepper.start(&mut eqs, t0, &y0, Some(h));
-        started.map_err(|e| self.step_error(e))?;
+        self.stepper.rewind(h);
         while self.stepper.t() < t {
             self.check_step_limit()?;
             let stepped = self.stepper.step(&mut eqs, t, h);

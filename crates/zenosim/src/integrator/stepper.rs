@@ -159,6 +159,26 @@ impl Stepper {
         Ok(())
     }
 
+    /// Restarts at the start of the last accepted step, `(t_previous(), y_previous())`, with
+    /// the next step size `h`: the same as [`Stepper::start`] there with the hint `h`, without
+    /// evaluating `f` again (its value there is known).
+    ///
+    /// # Panics
+    /// If the stepper was not started, or `h` is not positive and finite.
+    pub fn rewind(&mut self, h: f64) {
+        assert!(self.started, "Stepper::rewind before a successful start");
+        assert!(
+            h.is_finite() && h > 0.0,
+            "Stepper::rewind: h must be positive and finite"
+        );
+        self.t = self.t_prev;
+        self.y.copy_from_slice(&self.y_prev);
+        self.dy.copy_from_slice(&self.dy_prev);
+        self.err_previous = INITIAL_ERR_PREVIOUS;
+        self.h_next = h;
+        self.restart_here();
+    }
+
     /// Replace the current state (same t) after an external projection; re-evaluates f; keeps the step size.
     ///
     /// The last accepted step is kept as computed: `t_previous()`,

@@ -312,3 +312,29 @@ fn failed_step_keeps_state_and_prepared_dense_output() {
         assert!((out[0] - mid).abs() < 1e-15, "{method:?}: {}", out[0]);
     }
 }
+
+#[test]
+fn rewind_is_a_start_at_the_last_step_without_evaluating_f_again() {
+    for method in METHODS {
+        let mut sys = Oscillator { calls: 0 };
+        let mut rewound = Stepper::new(method, 2, Tolerances::default());
+        rewound.start(&mut sys, 0.0, &[1.0, 0.0], None).unwrap();
+        rewound.step(&mut sys, 1.0, 0.3).unwrap();
+        rewound.step(&mut sys, 1.0, 0.3).unwrap();
+        let (t0, y0) = (rewound.t_previous(), rewound.y_previous().to_vec());
+        let h = 0.5 * (rewound.t() - t0);
+
+        let calls = sys.calls;
+        rewound.rewind(h);
+        assert_eq!(sys.calls, calls, "{method:?}: rewind evaluates f");
+        assert_eq!((rewound.t(), rewound.y()), (t0, &y0[..]));
+
+        let mut started = Stepper::new(method, 2, Tolerances::default());
+        started.start(&mut sys, t0, &y0, Some(h)).unwrap();
+        assert_eq!(rewound.dy(), started.dy());
+        rewound.step(&mut sys, 1.0, h).unwrap();
+        started.step(&mut sys, 1.0, h).unwrap();
+        assert_eq!((rewound.t(), rewound.y()), (started.t(), started.y()));
+        assert_eq!(rewound.suggested_step(), started.suggested_step());
+    }
+}

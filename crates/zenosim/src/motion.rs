@@ -1,0 +1,373 @@
+//! The equations of motion of one mode, over any number type: `M`'s Cholesky factor, the free
+//! and the constrained acceleration, and a constraint's direction `M⁻¹Aᵀ`.
+//!
+//! Each is one function from `(q, q̇)` to numbers, with no branch on a value: a model file's
+//! compiled derivatives ([`crate::compiled`]) trace it whole into one straight-line program, in
+//! which the factorisation of a constant `M` (a point mass in Cartesian coordinates) folds to
+//! constants; a Rust model runs it over `f64`. Both give the same numbers. What depends on a
+//! value (is `M` positive definite, does the constraint have a direction) is decided by the
+//! caller ([`crate::mechanics`]) from the outputs: the pivots of the factorisation and `A M⁻¹ Aᵀ`.
+
+use crate::derivatives::{constraint_parts_of, lagrangian_terms_of, mass_matrix_of};
+use crate::model::{HybridLagrangian, Scalar};
+use nalgebra::{SMatrix, SVector};
+
+/// The Cholesky factor `M = L Lᵀ`, computed without branching on a value.
+struct Factor<const N: usize, T> {
+    /// `L`, lower triangle.
+    l: SMatrix<T, N, N>,
+    /// The pivots `L_jj²` before their square roots: `M` is positive definite exactly when all
+    /// are positive.
+    pivots: SVector<T, N>,
+}
+
+impl<const N: usize, T: Scalar> Factor<N, T> {
+    fn new(m: &SMatrix<T, N, N>) -> Self {
+        let mut l = SMatrix::<T, N, N>::zeros();
+        let mut pivots = SVector::<T, N>::zeros();
+        for j in 0..N {
+            let mut d = m[(j, j)];
+            for k in 0..j {
+                d -= l[(j, k)] * l[(j, k)];
+            }
+            pivots[j] = d;
+            let l_jj = d.sqrt();
+            l[(j, j)] = l_jj;
+            for i in j + 1..N {
+                let mut s = m[(i, j)];
+                for k in 0..j {
+                    s -= l[(i, k)] * l[(j, k)];
+                }
+                l[(i, j)] = s / l_jj;
+            }
+        }
+        Self { l, pivots }
+    }
+
+    /// `M⁻¹ b`: `L y = b`, then `Lᵀ x = y`.
+    fn solve(&self, b: &SVector<T, N>) -> SVector<T, N> {
+        let l = &self.l;
+        let mut y = *b;
+        for i in 0..N {
+            let mut s = y[i];
+            for k in 0..i {
+                s -= l[(i, k)] * y[k];
+            }
+            y[i] = s / l[(i, i)];
+        }
+        for i in (0..N).rev() {
+            let mut s = y[i];
+            for k in i + 1..N {
+                s -= l[(k, i)] * y[k];
+            }
+            y[i] = s / l[(i, i)];
+        }
+        y
+    }
+}
+
+/// The numbers of a motion in order, written and read back: the one layout of a compiled
+/// program's outputs.
+pub(crate) trait Outputs<T>: Sized {
+    /// The numbers in order.
+    fn write(&self, out: &mut Vec<T>);
+    /// The numbers back from the front of `flat`, in the order of [`Outputs::write`].
+    fn read(flat: &[T]) -> Self {
+        Self::read_from(&mut Cursor { flat })
+    }
+    /// [`Outputs::read`] from a cursor, which it moves past its numbers.
+    fn read_from(cursor: &mut Cursor<'_, T>) -> Self;
+}
+
+/// The numbers not read yet.
+pub(crate) struct Cursor<'a, T> {
+    flat: &'a [T],
+}
+
+impl<T: Scalar> Cursor<'_, T> {
+    fn scalar(&mut self) -> T {
+        let (first, rest) = self.flat.split_first().expect("as many outputs as written");
+        self.flat = rest;
+        *first
+    }
+
+    fn vector<const N: usize>(&mut self) -> SVector<T, N> {
+        let (first, rest) = self.flat.split_at(N);
+        self.flat = rest;
+        SVector::<T, N>::from_column_slice(first)
+    }
+}
+
+/// The free motion at `(q, q̇)`.
+pub(crate) struct FreeMotion<const N: usize, T = f64> {
+    /// The pivots of `M`'s factorisation (all positive: `M` is positive definite).
+    pub pivots: SVector<T, N>,
+    /// `q̈ = M⁻¹ f`.
+    pub acc: SVector<T, N>,
+}
+
+impl<const N: usize, T: Scalar> Outputs<T> for FreeMotion<N, T> {
+    fn write(&self, out: &mut Vec<T>) {
+        out.extend(self.pivots.iter().chain(&self.acc).copied());
+    }
+    fn read_from(c: &mut Cursor<'_, T>) -> Self {
+        let pivots = c.vector();
+        let acc = c.vector();
+        Self { pivots, acc }
+    }
+}
+
+/// A constraint at `q` and the direction it acts in: what the impact map and the projection
+/// need.
+pub(crate) struct Direction<const N: usize, T = f64> {
+    /// The pivots of `M`'s factorisation.
+    pub pivots: SVector<T, N>,
+    /// `h(q)`.
+    pub h: T,
+    /// `A = ∂h/∂q`.
+    pub gradient: SVector<T, N>,
+    /// `A q̇`.
+    pub a_q_dot: T,
+    /// `w = M⁻¹ Aᵀ`.
+    pub w: SVector<T, N>,
+    /// `s = A M⁻¹ Aᵀ`.
+    pub s: T,
+}
+
+impl<const N: usize, T: Scalar> Outputs<T> for Direction<N, T> {
+    fn write(&self, out: &mut Vec<T>) {
+        out.extend(self.pivots.iter().copied());
+        out.push(self.h);
+        out.extend(self.gradient.iter().copied());
+        out.push(self.a_q_dot);
+        out.extend(self.w.iter().copied());
+        out.push(self.s);
+    }
+    fn read_from(c: &mut Cursor<'_, T>) -> Self {
+        Self {
+            pivots: c.vector(),
+            h: c.scalar(),
+            gradient: c.vector(),
+            a_q_dot: c.scalar(),
+            w: c.vector(),
+            s: c.scalar(),
+        }
+    }
+}
+
+/// The motion held on one constraint at `(q, q̇)`, with the constraint's normal response.
+pub(crate) struct ConstrainedMotion<const N: usize, T = f64> {
+    /// The constraint, its direction, and `M`'s pivots.
+    pub direction: Direction<N, T>,
+    /// `∇²h q̇`.
+    pub hessian_q_dot: SVector<T, N>,
+    /// `Ȧ q̇ = q̇ᵀ ∇²h q̇`.
+    pub a_dot_q_dot: T,
+    /// The free acceleration `M⁻¹ f`.
+    pub acc_free: SVector<T, N>,
+    /// `ḧ` under the free motion: `A M⁻¹ f + Ȧ q̇`.
+    pub h_ddot_free: T,
+    /// `λ = ḧ_free / (A M⁻¹ Aᵀ)`.
+    pub lambda: T,
+    /// `q̈ = M⁻¹ f − M⁻¹Aᵀ λ`: `ḧ = 0`.
+    pub acc: SVector<T, N>,
+}
+
+impl<const N: usize, T: Scalar> Outputs<T> for ConstrainedMotion<N, T> {
+    fn write(&self, out: &mut Vec<T>) {
+        self.direction.write(out);
+        out.extend(self.hessian_q_dot.iter().copied());
+        out.push(self.a_dot_q_dot);
+        out.extend(self.acc_free.iter().copied());
+        out.push(self.h_ddot_free);
+        out.push(self.lambda);
+        out.extend(self.acc.iter().copied());
+    }
+    fn read_from(c: &mut Cursor<'_, T>) -> Self {
+        Self {
+            direction: Direction::read_from(c),
+            hessian_q_dot: c.vector(),
+            a_dot_q_dot: c.scalar(),
+            acc_free: c.vector(),
+            h_ddot_free: c.scalar(),
+            lambda: c.scalar(),
+            acc: c.vector(),
+        }
+    }
+}
+
+/// `a · b` in index order (the same sum over every number type).
+fn dot<const N: usize, T: Scalar>(a: &SVector<T, N>, b: &SVector<T, N>) -> T {
+    let mut sum = T::zero();
+    for i in 0..N {
+        sum += a[i] * b[i];
+    }
+    sum
+}
+
+/// The free motion, over any number type.
+pub(crate) fn free_motion_of<T: Scalar, const N: usize, L: HybridLagrangian>(
+    model: &L,
+    q: &[T],
+    q_dot: &[T],
+) -> FreeMotion<N, T> {
+    let terms = lagrangian_terms_of::<T, N, L>(model, q, q_dot);
+    let factor = Factor::new(&terms.mass);
+    FreeMotion {
+        acc: factor.solve(&terms.force),
+        pivots: factor.pivots,
+    }
+}
+
+/// Constraint `index` and its direction under `factor`.
+fn direction_with<T: Scalar, const N: usize, L: HybridLagrangian>(
+    model: &L,
+    index: usize,
+    q: &[T],
+    q_dot: &[T],
+    factor: &Factor<N, T>,
+) -> (Direction<N, T>, SVector<T, N>) {
+    let parts = constraint_parts_of::<T, N, L>(model, index, q, q_dot);
+    let w = factor.solve(&parts.gradient);
+    let direction = Direction {
+        pivots: factor.pivots,
+        h: parts.h,
+        s: dot(&parts.gradient, &w),
+        gradient: parts.gradient,
+        a_q_dot: parts.a_q_dot,
+        w,
+    };
+    (direction, parts.hessian_q_dot)
+}
+
+/// Constraint `index`'s direction, over any number type (`M` only, no forces).
+pub(crate) fn direction_of<T: Scalar, const N: usize, L: HybridLagrangian>(
+    model: &L,
+    index: usize,
+    q: &[T],
+    q_dot: &[T],
+) -> Direction<N, T> {
+    let factor = Factor::new(&mass_matrix_of::<T, N, L>(model, q, q_dot));
+    direction_with(model, index, q, q_dot, &factor).0
+}
+
+/// The motion held on constraint `index`, over any number type.
+pub(crate) fn constrained_motion_of<T: Scalar, const N: usize, L: HybridLagrangian>(
+    model: &L,
+    index: usize,
+    q: &[T],
+    q_dot: &[T],
+) -> ConstrainedMotion<N, T> {
+    let terms = lagrangian_terms_of::<T, N, L>(model, q, q_dot);
+    let factor = Factor::new(&terms.mass);
+    let acc_free = factor.solve(&terms.force);
+    let (direction, hessian_q_dot) = direction_with(model, index, q, q_dot, &factor);
+    let v = SVector::<T, N>::from_fn(|i, _| q_dot[i]);
+    let a_dot_q_dot = dot(&hessian_q_dot, &v);
+    let h_ddot_free = dot(&direction.gradient, &acc_free) + a_dot_q_dot;
+    let lambda = h_ddot_free / direction.s;
+    let acc = SVector::<T, N>::from_fn(|i, _| acc_free[i] - direction.w[i] * lambda);
+    ConstrainedMotion {
+        direction,
+        hessian_q_dot,
+        a_dot_q_dot,
+        acc_free,
+        h_ddot_free,
+        lambda,
+        acc,
+    }
+}
+
+/// The free motion: compiled if the model has it, else computed over `f64`.
+pub(crate) fn free_motion<const N: usize, L: HybridLagrangian>(
+    model: &L,
+    q: &[f64],
+    q_dot: &[f64],
+) -> FreeMotion<N> {
+    match model.compiled().and_then(|c| c.free_motion::<N>(q, q_dot)) {
+        Some(motion) => motion,
+        None => free_motion_of::<f64, N, L>(model, q, q_dot),
+    }
+}
+
+/// The motion held on constraint `index`: compiled, or computed over `f64`.
+pub(crate) fn constrained_motion<const N: usize, L: HybridLagrangian>(
+    model: &L,
+    index: usize,
+    q: &[f64],
+    q_dot: &[f64],
+) -> ConstrainedMotion<N> {
+    match model
+        .compiled()
+        .and_then(|c| c.constrained_motion::<N>(index, q, q_dot))
+    {
+        Some(motion) => motion,
+        None => constrained_motion_of::<f64, N, L>(model, index, q, q_dot),
+    }
+}
+
+/// Constraint `index`'s direction: compiled, or computed over `f64`.
+pub(crate) fn direction<const N: usize, L: HybridLagrangian>(
+    model: &L,
+    index: usize,
+    q: &[f64],
+    q_dot: &[f64],
+) -> Direction<N> {
+    match model
+        .compiled()
+        .and_then(|c| c.direction::<N>(index, q, q_dot))
+    {
+        Some(direction) => direction,
+        None => direction_of::<f64, N, L>(model, index, q, q_dot),
+    }
+}
+
+/// The pivots of `m`'s Cholesky factorisation (see [`check_pivots`]).
+pub(crate) fn pivots<const N: usize>(m: &SMatrix<f64, N, N>) -> SVector<f64, N> {
+    Factor::new(m).pivots
+}
+
+/// Whether `M` is positive definite, from its pivots: `Err` names why not, from the first pivot
+/// that is not a positive number (a negative pivot makes every later one NaN).
+pub(crate) fn check_pivots<const N: usize>(pivots: &SVector<f64, N>) -> Result<(), PivotError> {
+    match pivots.iter().find(|&&p| !(p > 0.0 && p.is_finite())) {
+        None => Ok(()),
+        Some(p) if p.is_finite() => Err(PivotError::NotPositiveDefinite),
+        Some(_) => Err(PivotError::NonFinite),
+    }
+}
+
+/// Why a factorisation failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PivotError {
+    /// `M` has a non-finite entry (or one that overflows).
+    NonFinite,
+    /// `M` is not positive definite.
+    NotPositiveDefinite,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_factor_solves_a_symmetric_positive_definite_system() {
+        let m = SMatrix::<f64, 3, 3>::new(4.0, 2.0, 0.4, 2.0, 5.0, 1.0, 0.4, 1.0, 3.0);
+        let factor = Factor::new(&m);
+        assert!(factor.pivots.iter().all(|&p| p > 0.0));
+        let b = SVector::<f64, 3>::new(1.0, -2.0, 0.5);
+        let x = factor.solve(&b);
+        let residual = (m * x - b).norm();
+        assert!(residual < 1e-14, "residual {residual:e}");
+        let l = factor.l;
+        assert!((l * l.transpose() - m).norm() < 1e-14);
+    }
+
+    #[test]
+    fn an_indefinite_matrix_has_a_pivot_that_is_not_positive() {
+        let m = SMatrix::<f64, 2, 2>::new(1.0, 2.0, 2.0, 1.0);
+        let pivots = Factor::new(&m).pivots;
+        assert_eq!(pivots[0], 1.0);
+        assert_eq!(pivots[1], -3.0);
+    }
+}
