@@ -282,8 +282,8 @@ t_end = 5.0
     let file = parse_model("walls.toml", source, &[]).unwrap_or_else(|e| panic!("{e}"));
     let compiled = file.model.compiled_derivatives().expect("compiled");
     // The Lagrangian's terms, the energy and the free motion; not the constraint's
-    // derivatives, its guard, the motion held on it nor its direction.
-    assert_eq!(compiled.coverage(), (3, 7));
+    // derivatives, its guard, the motion or acceleration held on it nor its direction.
+    assert_eq!(compiled.coverage(), (3, 8));
     let run = run_file(&file);
     assert_eq!(run.outcome, Outcome::Finished);
     let impacts: Vec<f64> = run

@@ -20,7 +20,8 @@ use crate::derivatives::{
 };
 use crate::model::HybridLagrangian;
 use crate::motion::{
-    constrained_motion_of, direction_of, free_motion_of, ConstrainedMotion, Direction, FreeMotion,
+    constrained_motion_of, direction_of, free_motion_of, held_acceleration_of, ConstrainedMotion,
+    Direction, FreeMotion, HeldAcceleration,
 };
 use crate::trace::{self, Bin, Node, Sym, Tape, Term, Un};
 use nalgebra::{SMatrix, SVector};
@@ -299,6 +300,8 @@ pub struct Compiled {
     free: Option<Program>,
     /// Per constraint: the motion held on it.
     held: Vec<Option<Program>>,
+    /// Per constraint: the acceleration held on it (what a right-hand side needs of `held`).
+    held_acc: Vec<Option<Program>>,
     /// Per constraint: its direction.
     directions: Vec<Option<Program>>,
 }
@@ -318,6 +321,7 @@ impl Compiled {
                 energy: None,
                 free: None,
                 held: vec![None; count],
+                held_acc: vec![None; count],
                 directions: vec![None; count],
             };
         }
@@ -373,6 +377,13 @@ impl Compiled {
                 })
             })
             .collect();
+        let held_acc = (0..count)
+            .map(|index| {
+                Program::trace_outputs(2 * N, |x| {
+                    held_acceleration_of::<Sym, N, L>(model, index, &x[..N], &x[N..])
+                })
+            })
+            .collect();
         let directions = (0..count)
             .map(|index| {
                 Program::trace_outputs(2 * N, |x| {
@@ -388,6 +399,7 @@ impl Compiled {
             energy,
             free,
             held,
+            held_acc,
             directions,
         }
     }
@@ -407,12 +419,13 @@ impl Compiled {
             .chain(&self.constraints)
             .chain(&self.guards)
             .chain(&self.held)
+            .chain(&self.held_acc)
             .chain(&self.directions)
     }
 
     /// How many of the parts were traced, and how many there are: the Euler–Lagrange terms, the
-    /// energy and the free motion, and four per constraint (its derivatives, its guard, the
-    /// motion held on it and its direction).
+    /// energy and the free motion, and five per constraint (its derivatives, its guard, the
+    /// motion held on it, the acceleration held on it and its direction).
     pub fn coverage(&self) -> (usize, usize) {
         let total = self.parts().count();
         (self.parts().filter(|p| p.is_some()).count(), total)
@@ -454,6 +467,17 @@ impl Compiled {
         q_dot: &[f64],
     ) -> Option<ConstrainedMotion<N>> {
         self.program::<N>(self.held.get(index))?
+            .run_outputs(q, q_dot)
+    }
+
+    /// The acceleration held on constraint `index` at `(q, q̇)`, if traced for dimension `N`.
+    pub(crate) fn held_acceleration<const N: usize>(
+        &self,
+        index: usize,
+        q: &[f64],
+        q_dot: &[f64],
+    ) -> Option<HeldAcceleration<N>> {
+        self.program::<N>(self.held_acc.get(index))?
             .run_outputs(q, q_dot)
     }
 

@@ -294,7 +294,9 @@ mod tests {
     use super::*;
     use crate::model::{Constraint, Scalar};
     use crate::models::{BallOnSine, BouncingBall, CartPendulum, PendulumChain, SphericalPendulum};
-    use crate::motion::{constrained_motion_of, direction_of, free_motion_of, Outputs};
+    use crate::motion::{
+        constrained_motion_of, direction_of, free_motion_of, held_acceleration_of, Outputs,
+    };
     use proptest::prelude::*;
 
     const STEP1: f64 = 1e-5;
@@ -570,6 +572,12 @@ mod tests {
                 |m| zero_divisor(&m.direction),
             )?;
             same_outputs(
+                &format!("acceleration held on constraint {index}"),
+                compiled.held_acceleration::<N>(index, q, v).as_ref(),
+                &held_acceleration_of::<f64, N, L>(model, index, q, v),
+                |m| m.s == 0.0 || m.pivots.iter().any(|&p| p == 0.0),
+            )?;
+            same_outputs(
                 &format!("direction of constraint {index}"),
                 compiled.direction::<N>(index, q, v).as_ref(),
                 &direction_of::<f64, N, L>(model, index, q, v),
@@ -641,7 +649,7 @@ mod tests {
         let compiled = crate::Compiled::trace_n::<1, _>(&model);
         // The Lagrangian terms, the energy and the free motion traced; the constraint, its
         // guard, the motion held on it and its direction did not.
-        assert_eq!(compiled.coverage(), (3, 7));
+        assert_eq!(compiled.coverage(), (3, 8));
         assert!(compiled
             .constrained_motion::<1>(0, &[0.3], &[1.0])
             .is_none());
@@ -657,17 +665,17 @@ mod tests {
     fn the_paper_ball_compiles_to_a_few_operations() {
         let model = BallOnSine::paper().model;
         let compiled = crate::Compiled::trace_n::<3, _>(&model);
-        assert_eq!(compiled.coverage(), (7, 7));
+        assert_eq!(compiled.coverage(), (8, 8));
         // M = m I and the force (0, 0, −m g) are constants: the Euler–Lagrange terms and the
         // free motion need no operation at all (M's factorisation folds away); h, A, ∇²h q̇, the
         // guard, the motion held on the surface and its direction need a handful.
         assert_eq!(compiled.free_operations(), Some(0));
         let terms = compiled.lagrangian_terms::<3>(&[0.1, 0.2, 0.3], &[1.0, 2.0, 3.0]);
         assert!(terms.is_some());
-        // 59 when written: 9 each for the constraint, its guard and its direction, 17 for the
-        // motion held on the surface, 15 for the energy.
+        // 73 when written: 9 each for the constraint, its guard and its direction, 17 for the
+        // motion held on the surface, 14 for the acceleration held on it, 15 for the energy.
         assert!(
-            compiled.operations() < 64,
+            compiled.operations() < 80,
             "{} operations",
             compiled.operations()
         );
@@ -766,7 +774,7 @@ mod tests {
                 constraints: [Constraint::new("a", 0.5), Constraint::new("b", 0.5)],
             };
             let compiled = crate::Compiled::trace_n::<2, _>(&coupled);
-            prop_assert_eq!(compiled.coverage(), (11, 11));
+            prop_assert_eq!(compiled.coverage(), (13, 13));
             check_compiled::<2, _>(&coupled, &compiled, &q[..2], &v[..2])?;
         }
 

@@ -10,7 +10,8 @@
 use crate::derivatives::{constraint_terms, mass_matrix, with_dimension};
 use crate::model::HybridLagrangian;
 use crate::motion::{
-    check_pivots, constrained_motion, direction, free_motion, pivots, Direction, PivotError,
+    check_pivots, constrained_motion, degenerate, direction, free_motion, held_acceleration, pivots,
+    Direction, PivotError,
 };
 use nalgebra::SVector;
 
@@ -52,9 +53,7 @@ impl From<PivotError> for DynamicsError {
 /// Checks a constraint's direction: `M` positive definite, and `s = A M⁻¹ Aᵀ` away from 0.
 fn check_direction<const N: usize>(d: &Direction<N>, index: usize) -> Result<(), DynamicsError> {
     check_pivots(&d.pivots)?;
-    let (s, gradient_norm) = (d.s, d.gradient.norm());
-    // s = |A|²/μ with μ an eigenvalue of M: compare with |A|² · |w|/|A| to be scale-free.
-    if s.is_nan() || s <= 0.0 || s <= 1e-14 * gradient_norm * d.w.norm() || gradient_norm == 0.0 {
+    if degenerate(d.s, d.gradient.norm_squared(), d.w.norm_squared()) {
         return Err(DynamicsError::DegenerateConstraint { constraint: index });
     }
     Ok(())
@@ -158,9 +157,12 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
                 (motion.acc, 0.0)
             }
             Some(index) => {
-                let motion = constrained_motion::<N, L>(self.model, index, q, q_dot);
-                check_direction(&motion.direction, index)?;
-                (motion.acc, motion.lambda)
+                let held = held_acceleration::<N, L>(self.model, index, q, q_dot);
+                check_pivots(&held.pivots)?;
+                if degenerate(held.s, held.gradient_norm2, held.w_norm2) {
+                    return Err(DynamicsError::DegenerateConstraint { constraint: index });
+                }
+                (held.acc, held.lambda)
             }
         };
         if !acc.iter().all(|x| x.is_finite()) || !lambda.is_finite() {

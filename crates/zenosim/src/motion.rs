@@ -196,6 +196,42 @@ impl<const N: usize, T: Scalar> Outputs<T> for ConstrainedMotion<N, T> {
     }
 }
 
+/// What the right-hand side needs of the motion held on a constraint: the acceleration, the
+/// multiplier, and what tells whether they can be trusted.
+pub(crate) struct HeldAcceleration<const N: usize, T = f64> {
+    /// `q̈`.
+    pub acc: SVector<T, N>,
+    /// `λ`.
+    pub lambda: T,
+    /// The pivots of `M`'s factorisation.
+    pub pivots: SVector<T, N>,
+    /// `s = A M⁻¹ Aᵀ`.
+    pub s: T,
+    /// `|A|²`.
+    pub gradient_norm2: T,
+    /// `|M⁻¹ Aᵀ|²`.
+    pub w_norm2: T,
+}
+
+impl<const N: usize, T: Scalar> Outputs<T> for HeldAcceleration<N, T> {
+    fn write(&self, out: &mut Vec<T>) {
+        out.extend(self.acc.iter().copied());
+        out.push(self.lambda);
+        out.extend(self.pivots.iter().copied());
+        out.extend([self.s, self.gradient_norm2, self.w_norm2]);
+    }
+    fn read_from(c: &mut Cursor<'_, T>) -> Self {
+        Self {
+            acc: c.vector(),
+            lambda: c.scalar(),
+            pivots: c.vector(),
+            s: c.scalar(),
+            gradient_norm2: c.scalar(),
+            w_norm2: c.scalar(),
+        }
+    }
+}
+
 /// `a · b` in index order (the same sum over every number type).
 fn dot<const N: usize, T: Scalar>(a: &SVector<T, N>, b: &SVector<T, N>) -> T {
     let mut sum = T::zero();
@@ -278,6 +314,26 @@ pub(crate) fn constrained_motion_of<T: Scalar, const N: usize, L: HybridLagrangi
     }
 }
 
+/// The acceleration held on constraint `index`, over any number type (the part of
+/// [`constrained_motion_of`] a right-hand side needs).
+pub(crate) fn held_acceleration_of<T: Scalar, const N: usize, L: HybridLagrangian>(
+    model: &L,
+    index: usize,
+    q: &[T],
+    q_dot: &[T],
+) -> HeldAcceleration<N, T> {
+    let motion = constrained_motion_of::<T, N, L>(model, index, q, q_dot);
+    let d = &motion.direction;
+    HeldAcceleration {
+        acc: motion.acc,
+        lambda: motion.lambda,
+        pivots: d.pivots,
+        s: d.s,
+        gradient_norm2: dot(&d.gradient, &d.gradient),
+        w_norm2: dot(&d.w, &d.w),
+    }
+}
+
 /// The free motion: compiled if the model has it, else computed over `f64`.
 pub(crate) fn free_motion<const N: usize, L: HybridLagrangian>(
     model: &L,
@@ -304,6 +360,29 @@ pub(crate) fn constrained_motion<const N: usize, L: HybridLagrangian>(
         Some(motion) => motion,
         None => constrained_motion_of::<f64, N, L>(model, index, q, q_dot),
     }
+}
+
+/// The acceleration held on constraint `index`: compiled, or computed over `f64`.
+pub(crate) fn held_acceleration<const N: usize, L: HybridLagrangian>(
+    model: &L,
+    index: usize,
+    q: &[f64],
+    q_dot: &[f64],
+) -> HeldAcceleration<N> {
+    match model
+        .compiled()
+        .and_then(|c| c.held_acceleration::<N>(index, q, q_dot))
+    {
+        Some(held) => held,
+        None => held_acceleration_of::<f64, N, L>(model, index, q, q_dot),
+    }
+}
+
+/// Whether a constraint has no direction to act in: `s = A M⁻¹ Aᵀ` is not positive, or
+/// negligible against `|A| |M⁻¹Aᵀ|` (`s = |A|²/μ` with `μ` an eigenvalue of `M`, so the
+/// comparison is free of scale), or `A = 0`. From the squares of the norms.
+pub(crate) fn degenerate(s: f64, gradient_norm2: f64, w_norm2: f64) -> bool {
+    s.is_nan() || s <= 0.0 || s * s <= 1e-28 * gradient_norm2 * w_norm2 || gradient_norm2 == 0.0
 }
 
 /// Constraint `index`'s direction: compiled, or computed over `f64`.
