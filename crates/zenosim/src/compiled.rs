@@ -58,6 +58,12 @@ struct Program {
     /// Registers that must not be zero for the outputs to be the dual numbers' (possibly
     /// mis-signed zeros that a sign-sensitive operation takes).
     nonzero: Box<[u32]>,
+    /// The registers a run needs: the inputs, the constants, one per step, then the outputs
+    /// gathered in order.
+    registers: usize,
+    /// The outputs, when all are constants (a program with no step: the free motion of a point
+    /// mass under constant forces); a run then only checks the witnesses.
+    constant_outputs: Option<Box<[f64]>>,
 }
 
 impl Program {
@@ -182,8 +188,18 @@ impl Program {
             list.dedup();
             list.into()
         };
+        let constant_outputs = output_registers
+            .iter()
+            .map(|&r| {
+                let k = (r as usize).checked_sub(inputs)?;
+                constants.get(k).copied()
+            })
+            .collect::<Option<Box<[f64]>>>()
+            .filter(|_| steps.is_empty());
         Program {
             inputs,
+            registers: inputs + constants.len() + steps.len() + output_registers.len(),
+            constant_outputs,
             constants: constants.into(),
             steps: steps.into(),
             outputs: output_registers.into(),
@@ -209,19 +225,25 @@ impl Program {
         self.run(q, q_dot, O::read)
     }
 
-    /// The registers a run needs: the inputs, the constants, one per step, then the outputs
-    /// gathered in order.
-    fn registers(&self) -> usize {
-        self.inputs + self.constants.len() + self.steps.len() + self.outputs.len()
-    }
-
     /// Runs the program on `(q, q̇)` and hands its outputs, in order, to `read`; `None` when a
     /// witness says the dual numbers would not give these outputs here (the caller uses them
     /// instead).
     #[inline]
     fn run<R>(&self, q: &[f64], q_dot: &[f64], read: impl FnOnce(&[f64]) -> R) -> Option<R> {
+        if let Some(outputs) = &self.constant_outputs {
+            // No step: the witnesses are inputs or constants.
+            let n = q.len();
+            let register = |w: u32| match w as usize {
+                w if w < n => q[w],
+                w if w < self.inputs => q_dot[w - n],
+                w => self.constants[w - self.inputs],
+            };
+            let finite = self.finite.iter().all(|&w| register(w).is_finite());
+            let nonzero = self.nonzero.iter().all(|&w| register(w) != 0.0);
+            return (finite && nonzero).then(|| read(outputs));
+        }
         // Registers on the stack for the sizes models have; the heap beyond.
-        match self.registers() {
+        match self.registers {
             len @ 0..=32 => self.run_in(&mut [0.0; 32][..len], q, q_dot, read),
             len @ 33..=64 => self.run_in(&mut [0.0; 64][..len], q, q_dot, read),
             len @ 65..=128 => self.run_in(&mut [0.0; 128][..len], q, q_dot, read),

@@ -72,7 +72,7 @@ pub fn first_crossing(
         };
         let cur = g(t);
         if cur.0 <= 0.0 || cur.0.is_nan() {
-            return Some(bracket(prev_t, prev.0, t, &mut g));
+            return Some(bracket(prev_t, prev.0, t, cur.0, &mut g));
         }
         if let Some(crossing) = between(prev_t, prev, t, cur, &mut g, &mut budget) {
             return Some(crossing);
@@ -120,7 +120,7 @@ fn between(
     let m = a + 0.5 * width;
     let gm = g(m);
     if gm.0 <= 0.0 || gm.0.is_nan() {
-        return Some(bracket(a, ga.0, m, g));
+        return Some(bracket(a, ga.0, m, gm.0, g));
     }
     // H(s) on s ∈ [0, 1]: values g_a, g_b, slopes da·width, db·width.
     let (p0, p1, m0, m1) = (ga.0, gb.0, da * width, db * width);
@@ -181,7 +181,7 @@ fn dip(a: f64, b: f64, g: &mut impl FnMut(f64) -> (f64, Option<f64>)) -> Option<
         let mid = 0.5 * (lo + hi);
         let (value, slope) = g(mid);
         if value <= 0.0 {
-            return Some(bracket(a, g(a).0, mid, g));
+            return Some(bracket(a, g(a).0, mid, value, g));
         }
         match slope {
             Some(s) if s < 0.0 => lo = mid,
@@ -189,14 +189,20 @@ fn dip(a: f64, b: f64, g: &mut impl FnMut(f64) -> (f64, Option<f64>)) -> Option<
         }
     }
     let (value, _) = g(hi);
-    (value <= 0.0).then(|| bracket(a, g(a).0, hi, g))
+    (value <= 0.0).then(|| bracket(a, g(a).0, hi, value, g))
 }
 
-/// Narrows `[a, b]` with `g(b) ≤ 0` to a crossing at round-off width. If `g(a) ≤ 0` too (a start
-/// on the surface), it first probes towards `a` for an admissible point; with none, the crossing
-/// is at `a` itself.
-fn bracket(a: f64, ga: f64, b: f64, g: &mut impl FnMut(f64) -> (f64, Option<f64>)) -> Crossing {
-    let (mut a, mut ga, mut b) = (a, ga, b);
+/// Narrows `[a, b]` with `gb = g(b) ≤ 0` to a crossing at round-off width. If `g(a) ≤ 0` too (a
+/// start on the surface), it first probes towards `a` for an admissible point; with none, the
+/// crossing is at `a` itself.
+fn bracket(
+    a: f64,
+    ga: f64,
+    b: f64,
+    gb: f64,
+    g: &mut impl FnMut(f64) -> (f64, Option<f64>),
+) -> Crossing {
+    let (mut a, mut ga, mut b, mut gb) = (a, ga, b, gb);
     if ga <= 0.0 {
         let mut probe = b;
         let mut found = false;
@@ -214,6 +220,7 @@ fn bracket(a: f64, ga: f64, b: f64, g: &mut impl FnMut(f64) -> (f64, Option<f64>
                 break;
             }
             b = probe;
+            gb = gp;
         }
         if !found {
             return Crossing {
@@ -222,7 +229,6 @@ fn bracket(a: f64, ga: f64, b: f64, g: &mut impl FnMut(f64) -> (f64, Option<f64>
             };
         }
     }
-    let mut gb = g(b).0;
     // Illinois (modified regula falsi); a bisection whenever two steps did not halve the bracket.
     let mut side = 0i8;
     let mut width_before = b - a;

@@ -10,8 +10,8 @@
 use crate::derivatives::{constraint_terms, mass_matrix, with_dimension};
 use crate::model::HybridLagrangian;
 use crate::motion::{
-    check_pivots, constrained_motion, degenerate, direction, free_motion, held_acceleration, pivots,
-    Direction, PivotError,
+    check_pivots, constrained_motion, degenerate, direction, free_motion, held_acceleration,
+    pivots, Direction, PivotError,
 };
 use nalgebra::SVector;
 

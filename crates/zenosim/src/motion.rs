@@ -409,6 +409,9 @@ pub(crate) fn pivots<const N: usize>(m: &SMatrix<f64, N, N>) -> SVector<f64, N> 
 /// Whether `M` is positive definite, from its pivots: `Err` names why not, from the first pivot
 /// that is not a positive number (a negative pivot makes every later one NaN).
 pub(crate) fn check_pivots<const N: usize>(pivots: &SVector<f64, N>) -> Result<(), PivotError> {
+    if pivots.iter().all(|&p| p > 0.0 && p < f64::INFINITY) {
+        return Ok(());
+    }
     match pivots.iter().find(|&&p| !(p > 0.0 && p.is_finite())) {
         None => Ok(()),
         Some(p) if p.is_finite() => Err(PivotError::NotPositiveDefinite),
