@@ -776,6 +776,37 @@ def matched(zen, scipy_points):
             | {"wall_time_s": best["wall_time_s"]["median"]}}
 
 
+def paired(binary, path, model, y0, t_end, match, args):
+    """The matched ratio again, timed back to back: `args.pairs` rounds of zenosim (`zenosim
+    bench`, the headline tolerance) and the matched scipy configuration, in alternating order,
+    each round's ratio from the two medians. The machine's speed drifts by tens of per cent
+    from one minute to the next; a ratio of two times taken seconds apart is not biased by it,
+    one of times taken minutes apart is."""
+    s = match["scipy"]
+    ratios = []
+    for k in range(args.pairs):
+        def zen():
+            report = zenosim_bench(binary, path, [match["zenosim"]["tolerance"]],
+                                   args.zenosim_min_time)
+            return report["runs"][0]["wall_time_s"]["median"]
+
+        def sci():
+            _, wall, failure = timed(model, y0, t_end, s["method"], s["tolerance"], s["epsilon"],
+                                     args)
+            return None if failure else wall["median"]
+
+        if k % 2 == 0:
+            z, w = zen(), sci()
+        else:
+            w, z = sci(), zen()
+        if w is None:
+            return None
+        ratios.append(w / z)
+        log(f"   pair {k + 1}: scipy {tdur(w)}, zenosim {tdur(z)}: {w / z:.0f}×")
+    return {"pairs": len(ratios), "median": statistics.median(ratios), "min": min(ratios),
+            "max": max(ratios), "ratios": ratios}
+
+
 def g3(x):
     if x is None:
         return "—"
@@ -799,6 +830,11 @@ def ratio_text(r):
         return "no scipy configuration finished"
     s = r["scipy"]
     head = (f"**{r['ratio']:.0f}×**" if r["ratio"] >= 10 else f"**{r['ratio']:.2g}×**")
+    pair = r.get("paired")
+    if pair:
+        head = (f"**{pair['median']:.0f}×** (median of {pair['pairs']} back-to-back pairs, "
+                f"{pair['min']:.0f}–{pair['max']:.0f}×; {r['ratio']:.0f}× from the grid's "
+                f"times)")
     if r["kind"] == "matched":
         return (f"{head} (scipy {s['method']} tol {g3(s['tolerance'])} ε {g3(s['epsilon'])}: "
                 f"error {g3(s['error'])} ≤ zenosim's {g3(r['zenosim']['error'])}, "
@@ -930,6 +966,9 @@ def parse_args(argv):
     ap.add_argument("--min-repeats", type=int, default=3)
     ap.add_argument("--zenosim-min-time", type=float, default=0.5,
                     help="zenosim bench --min-time")
+    ap.add_argument("--pairs", type=int, default=7,
+                    help="rounds of timing zenosim and the matched scipy configuration back to "
+                         "back, for the headline ratio (0: the grid's times only)")
     ap.add_argument("--max-impacts", type=int, default=1000,
                     help="a scipy run with more events fails as an event storm")
     ap.add_argument("--max-wall", type=float, default=20.0,
@@ -946,6 +985,7 @@ def parse_args(argv):
         args.min_repeats = 1
         args.zenosim_min_time = 0.05
         args.max_wall = 5.0
+        args.pairs = min(args.pairs, 1)
     args.methods = [m.strip() for m in args.methods.split(",") if m.strip()]
     args.tolerances = floats(args.tolerances)
     args.epsilons = floats(args.epsilons)
@@ -1104,6 +1144,9 @@ def main(argv):
         if zen_head is None and zen_points:
             zen_head = min(zen_points, key=lambda z: abs(math.log(z["tolerance"] / HEADLINE_TOL)))
         match = matched(zen_head, sp_points)
+        if match is not None and has_bench and args.pairs > 0:
+            log(f"== {name}: the matched pair, back to back")
+            match["paired"] = paired(binary, path, model, y0, t_end, match, args)
         if reference is not None:
             ok = [p for p in sp_points if p["status"] == "ok"]
             if ok:

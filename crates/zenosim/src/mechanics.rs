@@ -165,7 +165,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
                 (held.acc, held.lambda)
             }
         };
-        if !acc.iter().all(|x| x.is_finite()) || !lambda.is_finite() {
+        if !acc.as_slice().iter().all(|x| x.is_finite()) || !lambda.is_finite() {
             return Err(DynamicsError::NonFinite);
         }
         q_ddot[..N].copy_from_slice(acc.as_slice());
@@ -217,7 +217,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             let d = direction::<N, L>(self.model, index, q, q_dot);
             check_direction(&d, index)?;
             let scale = (1.0 + e) * d.a_q_dot / d.s;
-            for (v, wi) in q_dot.iter_mut().zip(d.w.iter()) {
+            for (v, wi) in q_dot.iter_mut().zip(d.w.as_slice()) {
                 *v -= scale * wi;
             }
             Ok(())
@@ -266,7 +266,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
                 || c.h.abs() >= best
             {
                 let scale = c.a_q_dot / s;
-                for (v, wi) in q_dot.iter_mut().zip(w.iter()) {
+                for (v, wi) in q_dot.iter_mut().zip(w.as_slice()) {
                     *v -= scale * wi;
                 }
                 let v = SVector::<f64, N>::from_column_slice(&q_dot[..N]);
@@ -280,7 +280,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
                 return Ok(residuals);
             }
             best = c.h.abs();
-            for (x, wi) in q.iter_mut().zip(w.iter()) {
+            for (x, wi) in q.iter_mut().zip(w.as_slice()) {
                 *x -= step * wi;
             }
         }
