@@ -220,6 +220,14 @@ impl Program {
         })
     }
 
+    /// Whether output `k` is a constant (the same at every state).
+    fn output_is_constant(&self, k: usize) -> bool {
+        let constants = self.inputs..self.inputs + self.constants.len();
+        self.outputs
+            .get(k)
+            .is_some_and(|&r| constants.contains(&(r as usize)))
+    }
+
     /// Runs the program and reads its outputs as an `O`.
     fn run_outputs<O: crate::motion::Outputs<f64>>(&self, q: &[f64], q_dot: &[f64]) -> Option<O> {
         self.run(q, q_dot, O::read)
@@ -326,6 +334,8 @@ pub struct Compiled {
     held_acc: Vec<Option<Program>>,
     /// Per constraint: its direction.
     directions: Vec<Option<Program>>,
+    /// Whether every entry of `M` is a constant ([`Compiled::constant_mass`]).
+    constant_mass: bool,
 }
 
 impl Compiled {
@@ -345,6 +355,7 @@ impl Compiled {
                 held: vec![None; count],
                 held_acc: vec![None; count],
                 directions: vec![None; count],
+                constant_mass: false,
             };
         }
         with_dimension!(n, N => Self::trace_n::<N, L>(model))
@@ -413,8 +424,13 @@ impl Compiled {
                 })
             })
             .collect();
+        let entries = N * (N + 1) / 2;
+        let constant_mass = terms
+            .as_ref()
+            .is_some_and(|p: &Program| (0..entries).all(|k| p.output_is_constant(k)));
         Compiled {
             dimension: N,
+            constant_mass,
             terms,
             constraints,
             guards,
@@ -456,6 +472,13 @@ impl Compiled {
     /// The number of `f64` operations of all programs together.
     pub fn operations(&self) -> usize {
         self.parts().flatten().map(|p| p.steps.len()).sum()
+    }
+
+    /// Whether `M` is constant: the traced Euler–Lagrange terms give every entry of `M` as a
+    /// constant. The motion's programs then fold `M`'s factorisation away and are the cheaper
+    /// way to the motion; otherwise its parts are (see [`crate::motion`]).
+    pub(crate) fn constant_mass(&self) -> bool {
+        self.constant_mass
     }
 
     /// The number of operations of the free motion's program, if traced.

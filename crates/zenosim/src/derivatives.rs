@@ -670,6 +670,10 @@ mod tests {
         // free motion need no operation at all (M's factorisation folds away); h, A, ∇²h q̇, the
         // guard, the motion held on the surface and its direction need a handful.
         assert_eq!(compiled.free_operations(), Some(0));
+        assert!(compiled.constant_mass());
+        // The cart pendulum's M depends on θ: its motion is assembled from the traced parts.
+        let cart = CartPendulum::demo().model;
+        assert!(!crate::Compiled::trace_n::<2, _>(&cart).constant_mass());
         let terms = compiled.lagrangian_terms::<3>(&[0.1, 0.2, 0.3], &[1.0, 2.0, 3.0]);
         assert!(terms.is_some());
         // 73 when written: 9 each for the constraint, its guard and its direction, 17 for the

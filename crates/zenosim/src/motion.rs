@@ -8,7 +8,9 @@
 //! value (is `M` positive definite, does the constraint have a direction) is decided by the
 //! caller ([`crate::mechanics`]) from the outputs: the pivots of the factorisation and `A M⁻¹ Aᵀ`.
 
-use crate::derivatives::{constraint_parts_of, lagrangian_terms_of, mass_matrix_of};
+use crate::derivatives::{
+    constraint_parts_of, lagrangian_terms_of, mass_matrix_of, ConstraintParts, LagrangianTerms,
+};
 use crate::model::{HybridLagrangian, Scalar};
 use nalgebra::{SMatrix, SVector};
 
@@ -247,7 +249,11 @@ pub(crate) fn free_motion_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     q: &[T],
     q_dot: &[T],
 ) -> FreeMotion<N, T> {
-    let terms = lagrangian_terms_of::<T, N, L>(model, q, q_dot);
+    free_from(&lagrangian_terms_of::<T, N, L>(model, q, q_dot))
+}
+
+/// The free motion from `M` and the force.
+fn free_from<T: Scalar, const N: usize>(terms: &LagrangianTerms<N, T>) -> FreeMotion<N, T> {
     let factor = Factor::new(&terms.mass);
     FreeMotion {
         acc: factor.solve(&terms.force),
@@ -255,15 +261,11 @@ pub(crate) fn free_motion_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     }
 }
 
-/// Constraint `index` and its direction under `factor`.
-fn direction_with<T: Scalar, const N: usize, L: HybridLagrangian>(
-    model: &L,
-    index: usize,
-    q: &[T],
-    q_dot: &[T],
+/// A constraint's direction under `factor`, with `∇²h q̇`.
+fn direction_from<T: Scalar, const N: usize>(
+    parts: &ConstraintParts<N, T>,
     factor: &Factor<N, T>,
 ) -> (Direction<N, T>, SVector<T, N>) {
-    let parts = constraint_parts_of::<T, N, L>(model, index, q, q_dot);
     let w = factor.solve(&parts.gradient);
     let direction = Direction {
         pivots: factor.pivots,
@@ -284,7 +286,8 @@ pub(crate) fn direction_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     q_dot: &[T],
 ) -> Direction<N, T> {
     let factor = Factor::new(&mass_matrix_of::<T, N, L>(model, q, q_dot));
-    direction_with(model, index, q, q_dot, &factor).0
+    let parts = constraint_parts_of::<T, N, L>(model, index, q, q_dot);
+    direction_from(&parts, &factor).0
 }
 
 /// The motion held on constraint `index`, over any number type.
@@ -295,9 +298,19 @@ pub(crate) fn constrained_motion_of<T: Scalar, const N: usize, L: HybridLagrangi
     q_dot: &[T],
 ) -> ConstrainedMotion<N, T> {
     let terms = lagrangian_terms_of::<T, N, L>(model, q, q_dot);
+    let parts = constraint_parts_of::<T, N, L>(model, index, q, q_dot);
+    constrained_from(&terms, &parts, q_dot)
+}
+
+/// The motion held on a constraint from `M`, the force and the constraint's derivatives.
+fn constrained_from<T: Scalar, const N: usize>(
+    terms: &LagrangianTerms<N, T>,
+    parts: &ConstraintParts<N, T>,
+    q_dot: &[T],
+) -> ConstrainedMotion<N, T> {
     let factor = Factor::new(&terms.mass);
     let acc_free = factor.solve(&terms.force);
-    let (direction, hessian_q_dot) = direction_with(model, index, q, q_dot, &factor);
+    let (direction, hessian_q_dot) = direction_from(parts, &factor);
     let v = SVector::<T, N>::from_fn(|i, _| q_dot[i]);
     let a_dot_q_dot = dot(&hessian_q_dot, &v);
     let h_ddot_free = dot(&direction.gradient, &acc_free) + a_dot_q_dot;
@@ -322,7 +335,13 @@ pub(crate) fn held_acceleration_of<T: Scalar, const N: usize, L: HybridLagrangia
     q: &[T],
     q_dot: &[T],
 ) -> HeldAcceleration<N, T> {
-    let motion = constrained_motion_of::<T, N, L>(model, index, q, q_dot);
+    held_from(&constrained_motion_of::<T, N, L>(model, index, q, q_dot))
+}
+
+/// What a right-hand side needs of the motion held on a constraint.
+fn held_from<T: Scalar, const N: usize>(
+    motion: &ConstrainedMotion<N, T>,
+) -> HeldAcceleration<N, T> {
     let d = &motion.direction;
     HeldAcceleration {
         acc: motion.acc,
@@ -334,16 +353,50 @@ pub(crate) fn held_acceleration_of<T: Scalar, const N: usize, L: HybridLagrangia
     }
 }
 
+/// How a model file's compiled derivatives give the motion: whole, from one traced program
+/// each (where `M` is constant, its factorisation folds away), or in parts, from the traced
+/// `M`, force and constraint derivatives with the factorisation and solves done here (where
+/// `M` varies, they cost less here than interpreted). Both give the numbers of the
+/// differentiation, bit for bit.
+enum Compiled<'c> {
+    Whole(&'c crate::Compiled),
+    Parts(&'c crate::Compiled),
+    None,
+}
+
+fn compiled<L: HybridLagrangian>(model: &L) -> Compiled<'_> {
+    match model.compiled() {
+        Some(c) if c.constant_mass() => Compiled::Whole(c),
+        Some(c) => Compiled::Parts(c),
+        None => Compiled::None,
+    }
+}
+
 /// The free motion: compiled if the model has it, else computed over `f64`.
 pub(crate) fn free_motion<const N: usize, L: HybridLagrangian>(
     model: &L,
     q: &[f64],
     q_dot: &[f64],
 ) -> FreeMotion<N> {
-    match model.compiled().and_then(|c| c.free_motion::<N>(q, q_dot)) {
-        Some(motion) => motion,
-        None => free_motion_of::<f64, N, L>(model, q, q_dot),
-    }
+    let motion = match compiled(model) {
+        Compiled::Whole(c) => c.free_motion::<N>(q, q_dot),
+        Compiled::Parts(c) => c.lagrangian_terms::<N>(q, q_dot).map(|t| free_from(&t)),
+        Compiled::None => None,
+    };
+    motion.unwrap_or_else(|| free_motion_of::<f64, N, L>(model, q, q_dot))
+}
+
+/// `M`, the force and constraint `index`'s derivatives from the compiled parts.
+fn parts<const N: usize>(
+    c: &crate::Compiled,
+    index: usize,
+    q: &[f64],
+    q_dot: &[f64],
+) -> Option<(LagrangianTerms<N>, ConstraintParts<N, f64>)> {
+    Some((
+        c.lagrangian_terms::<N>(q, q_dot)?,
+        c.constraint_parts::<N>(index, q, q_dot)?,
+    ))
 }
 
 /// The motion held on constraint `index`: compiled, or computed over `f64`.
@@ -353,13 +406,14 @@ pub(crate) fn constrained_motion<const N: usize, L: HybridLagrangian>(
     q: &[f64],
     q_dot: &[f64],
 ) -> ConstrainedMotion<N> {
-    match model
-        .compiled()
-        .and_then(|c| c.constrained_motion::<N>(index, q, q_dot))
-    {
-        Some(motion) => motion,
-        None => constrained_motion_of::<f64, N, L>(model, index, q, q_dot),
-    }
+    let motion = match compiled(model) {
+        Compiled::Whole(c) => c.constrained_motion::<N>(index, q, q_dot),
+        Compiled::Parts(c) => {
+            parts::<N>(c, index, q, q_dot).map(|(t, p)| constrained_from(&t, &p, q_dot))
+        }
+        Compiled::None => None,
+    };
+    motion.unwrap_or_else(|| constrained_motion_of::<f64, N, L>(model, index, q, q_dot))
 }
 
 /// The acceleration held on constraint `index`: compiled, or computed over `f64`.
@@ -369,20 +423,14 @@ pub(crate) fn held_acceleration<const N: usize, L: HybridLagrangian>(
     q: &[f64],
     q_dot: &[f64],
 ) -> HeldAcceleration<N> {
-    match model
-        .compiled()
-        .and_then(|c| c.held_acceleration::<N>(index, q, q_dot))
-    {
-        Some(held) => held,
-        None => held_acceleration_of::<f64, N, L>(model, index, q, q_dot),
-    }
-}
-
-/// Whether a constraint has no direction to act in: `s = A M⁻¹ Aᵀ` is not positive, or
-/// negligible against `|A| |M⁻¹Aᵀ|` (`s = |A|²/μ` with `μ` an eigenvalue of `M`, so the
-/// comparison is free of scale), or `A = 0`. From the squares of the norms.
-pub(crate) fn degenerate(s: f64, gradient_norm2: f64, w_norm2: f64) -> bool {
-    s.is_nan() || s <= 0.0 || s * s <= 1e-28 * gradient_norm2 * w_norm2 || gradient_norm2 == 0.0
+    let held = match compiled(model) {
+        Compiled::Whole(c) => c.held_acceleration::<N>(index, q, q_dot),
+        Compiled::Parts(c) => {
+            parts::<N>(c, index, q, q_dot).map(|(t, p)| held_from(&constrained_from(&t, &p, q_dot)))
+        }
+        Compiled::None => None,
+    };
+    held.unwrap_or_else(|| held_acceleration_of::<f64, N, L>(model, index, q, q_dot))
 }
 
 /// Constraint `index`'s direction: compiled, or computed over `f64`.
@@ -392,13 +440,21 @@ pub(crate) fn direction<const N: usize, L: HybridLagrangian>(
     q: &[f64],
     q_dot: &[f64],
 ) -> Direction<N> {
-    match model
-        .compiled()
-        .and_then(|c| c.direction::<N>(index, q, q_dot))
-    {
-        Some(direction) => direction,
-        None => direction_of::<f64, N, L>(model, index, q, q_dot),
-    }
+    let direction = match compiled(model) {
+        Compiled::Whole(c) => c.direction::<N>(index, q, q_dot),
+        Compiled::Parts(c) => {
+            parts::<N>(c, index, q, q_dot).map(|(t, p)| direction_from(&p, &Factor::new(&t.mass)).0)
+        }
+        Compiled::None => None,
+    };
+    direction.unwrap_or_else(|| direction_of::<f64, N, L>(model, index, q, q_dot))
+}
+
+/// Whether a constraint has no direction to act in: `s = A M⁻¹ Aᵀ` is not positive, or
+/// negligible against `|A| |M⁻¹Aᵀ|` (`s = |A|²/μ` with `μ` an eigenvalue of `M`, so the
+/// comparison is free of scale), or `A = 0`. From the squares of the norms.
+pub(crate) fn degenerate(s: f64, gradient_norm2: f64, w_norm2: f64) -> bool {
+    s.is_nan() || s <= 0.0 || s * s <= 1e-28 * gradient_norm2 * w_norm2 || gradient_norm2 == 0.0
 }
 
 /// The pivots of `m`'s Cholesky factorisation (see [`check_pivots`]).
