@@ -50,13 +50,26 @@ impl From<PivotError> for DynamicsError {
     }
 }
 
-/// Checks a constraint's direction: `M` positive definite, and `s = A M⁻¹ Aᵀ` away from 0.
-fn check_direction<const N: usize>(d: &Direction<N>, index: usize) -> Result<(), DynamicsError> {
-    check_pivots(&d.pivots)?;
-    if degenerate(d.s, d.gradient.norm_squared(), d.w.norm_squared()) {
+/// Checks that constraint `index` can act: `M` positive definite (its pivots), and
+/// `s = A M⁻¹ Aᵀ` away from 0 against `|A|²` and `|M⁻¹Aᵀ|²`.
+fn check_acting<const N: usize>(
+    pivots: &SVector<f64, N>,
+    s: f64,
+    gradient_norm2: f64,
+    w_norm2: f64,
+    index: usize,
+) -> Result<(), DynamicsError> {
+    check_pivots(pivots)?;
+    if degenerate(s, gradient_norm2, w_norm2) {
         return Err(DynamicsError::DegenerateConstraint { constraint: index });
     }
     Ok(())
+}
+
+/// [`check_acting`] for a constraint's direction.
+fn check_direction<const N: usize>(d: &Direction<N>, index: usize) -> Result<(), DynamicsError> {
+    let (gradient_norm2, w_norm2) = (d.gradient.norm_squared(), d.w.norm_squared());
+    check_acting(&d.pivots, d.s, gradient_norm2, w_norm2, index)
 }
 
 /// A constraint's normal response, from [`Mechanics::normal`].
@@ -158,10 +171,13 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             }
             Some(index) => {
                 let held = held_acceleration::<N, L>(self.model, index, q, q_dot);
-                check_pivots(&held.pivots)?;
-                if degenerate(held.s, held.gradient_norm2, held.w_norm2) {
-                    return Err(DynamicsError::DegenerateConstraint { constraint: index });
-                }
+                check_acting(
+                    &held.pivots,
+                    held.s,
+                    held.gradient_norm2,
+                    held.w_norm2,
+                    index,
+                )?;
                 (held.acc, held.lambda)
             }
         };

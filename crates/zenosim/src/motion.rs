@@ -358,17 +358,17 @@ fn held_from<T: Scalar, const N: usize>(
 /// `M`, force and constraint derivatives with the factorisation and solves done here (where
 /// `M` varies, they cost less here than interpreted). Both give the numbers of the
 /// differentiation, bit for bit.
-enum Compiled<'c> {
+enum Route<'c> {
     Whole(&'c crate::Compiled),
     Parts(&'c crate::Compiled),
     None,
 }
 
-fn compiled<L: HybridLagrangian>(model: &L) -> Compiled<'_> {
+fn route<L: HybridLagrangian>(model: &L) -> Route<'_> {
     match model.compiled() {
-        Some(c) if c.constant_mass() => Compiled::Whole(c),
-        Some(c) => Compiled::Parts(c),
-        None => Compiled::None,
+        Some(c) if c.constant_mass() => Route::Whole(c),
+        Some(c) => Route::Parts(c),
+        None => Route::None,
     }
 }
 
@@ -378,10 +378,10 @@ pub(crate) fn free_motion<const N: usize, L: HybridLagrangian>(
     q: &[f64],
     q_dot: &[f64],
 ) -> FreeMotion<N> {
-    let motion = match compiled(model) {
-        Compiled::Whole(c) => c.free_motion::<N>(q, q_dot),
-        Compiled::Parts(c) => c.lagrangian_terms::<N>(q, q_dot).map(|t| free_from(&t)),
-        Compiled::None => None,
+    let motion = match route(model) {
+        Route::Whole(c) => c.free_motion::<N>(q, q_dot),
+        Route::Parts(c) => c.lagrangian_terms::<N>(q, q_dot).map(|t| free_from(&t)),
+        Route::None => None,
     };
     motion.unwrap_or_else(|| free_motion_of::<f64, N, L>(model, q, q_dot))
 }
@@ -406,12 +406,12 @@ pub(crate) fn constrained_motion<const N: usize, L: HybridLagrangian>(
     q: &[f64],
     q_dot: &[f64],
 ) -> ConstrainedMotion<N> {
-    let motion = match compiled(model) {
-        Compiled::Whole(c) => c.constrained_motion::<N>(index, q, q_dot),
-        Compiled::Parts(c) => {
+    let motion = match route(model) {
+        Route::Whole(c) => c.constrained_motion::<N>(index, q, q_dot),
+        Route::Parts(c) => {
             parts::<N>(c, index, q, q_dot).map(|(t, p)| constrained_from(&t, &p, q_dot))
         }
-        Compiled::None => None,
+        Route::None => None,
     };
     motion.unwrap_or_else(|| constrained_motion_of::<f64, N, L>(model, index, q, q_dot))
 }
@@ -423,12 +423,12 @@ pub(crate) fn held_acceleration<const N: usize, L: HybridLagrangian>(
     q: &[f64],
     q_dot: &[f64],
 ) -> HeldAcceleration<N> {
-    let held = match compiled(model) {
-        Compiled::Whole(c) => c.held_acceleration::<N>(index, q, q_dot),
-        Compiled::Parts(c) => {
+    let held = match route(model) {
+        Route::Whole(c) => c.held_acceleration::<N>(index, q, q_dot),
+        Route::Parts(c) => {
             parts::<N>(c, index, q, q_dot).map(|(t, p)| held_from(&constrained_from(&t, &p, q_dot)))
         }
-        Compiled::None => None,
+        Route::None => None,
     };
     held.unwrap_or_else(|| held_acceleration_of::<f64, N, L>(model, index, q, q_dot))
 }
@@ -440,12 +440,12 @@ pub(crate) fn direction<const N: usize, L: HybridLagrangian>(
     q: &[f64],
     q_dot: &[f64],
 ) -> Direction<N> {
-    let direction = match compiled(model) {
-        Compiled::Whole(c) => c.direction::<N>(index, q, q_dot),
-        Compiled::Parts(c) => {
+    let direction = match route(model) {
+        Route::Whole(c) => c.direction::<N>(index, q, q_dot),
+        Route::Parts(c) => {
             parts::<N>(c, index, q, q_dot).map(|(t, p)| direction_from(&p, &Factor::new(&t.mass)).0)
         }
-        Compiled::None => None,
+        Route::None => None,
     };
     direction.unwrap_or_else(|| direction_of::<f64, N, L>(model, index, q, q_dot))
 }
