@@ -69,7 +69,7 @@ struct Program {
 impl Program {
     /// Traces `f` over `inputs` traced inputs into a program computing its outputs; `None` when
     /// `f` cannot be traced.
-    fn trace(inputs: usize, f: impl FnOnce(&[Sym]) -> Vec<Sym>) -> Option<Program> {
+    fn trace(inputs: usize, f: &dyn Fn(&[Sym]) -> Vec<Sym>) -> Option<Program> {
         let (tape, outputs) = trace::trace(inputs, f)?;
         Some(Program::from_tape(&tape, inputs, &outputs))
     }
@@ -211,9 +211,9 @@ impl Program {
     /// Traces `f`, whose result is laid out by its [`Outputs`](crate::motion::Outputs).
     fn trace_outputs<O: crate::motion::Outputs<Sym>>(
         inputs: usize,
-        f: impl FnOnce(&[Sym]) -> O,
+        f: impl Fn(&[Sym]) -> O,
     ) -> Option<Program> {
-        Program::trace(inputs, |x| {
+        Program::trace(inputs, &|x| {
             let mut out = Vec::new();
             f(x).write(&mut out);
             out
@@ -236,8 +236,21 @@ impl Program {
     /// Runs the program on `(q, q̇)` and hands its outputs, in order, to `read`; `None` when a
     /// witness says the dual numbers would not give these outputs here (the caller uses them
     /// instead).
+    ///
+    /// Only this wrapper is generic: the interpreter ([`Program::execute`]) is compiled once,
+    /// not once per kind of output and dimension.
     #[inline]
     fn run<R>(&self, q: &[f64], q_dot: &[f64], read: impl FnOnce(&[f64]) -> R) -> Option<R> {
+        let mut read = Some(read);
+        let mut result = None;
+        self.execute(q, q_dot, &mut |outputs| {
+            result = read.take().map(|read| read(outputs));
+        });
+        result
+    }
+
+    /// [`Program::run`] with the outputs handed to `read` (not called when a witness fails).
+    fn execute(&self, q: &[f64], q_dot: &[f64], read: &mut dyn FnMut(&[f64])) {
         if let Some(outputs) = &self.constant_outputs {
             // No step: the witnesses are inputs or constants.
             let n = q.len();
@@ -248,26 +261,23 @@ impl Program {
             };
             let finite = self.finite.iter().all(|&w| register(w).is_finite());
             let nonzero = self.nonzero.iter().all(|&w| register(w) != 0.0);
-            return (finite && nonzero).then(|| read(outputs));
+            if finite && nonzero {
+                read(outputs);
+            }
+            return;
         }
         // Registers on the stack for the sizes models have; the heap beyond.
         match self.registers {
-            len @ 0..=32 => self.run_in(&mut [0.0; 32][..len], q, q_dot, read),
-            len @ 33..=64 => self.run_in(&mut [0.0; 64][..len], q, q_dot, read),
-            len @ 65..=128 => self.run_in(&mut [0.0; 128][..len], q, q_dot, read),
-            len @ 129..=512 => self.run_in(&mut [0.0; 512][..len], q, q_dot, read),
-            len => self.run_in(&mut vec![0.0; len], q, q_dot, read),
+            len @ 0..=32 => self.execute_in(&mut [0.0; 32][..len], q, q_dot, read),
+            len @ 33..=64 => self.execute_in(&mut [0.0; 64][..len], q, q_dot, read),
+            len @ 65..=128 => self.execute_in(&mut [0.0; 128][..len], q, q_dot, read),
+            len @ 129..=512 => self.execute_in(&mut [0.0; 512][..len], q, q_dot, read),
+            len => self.execute_in(&mut vec![0.0; len], q, q_dot, read),
         }
     }
 
     #[inline(always)]
-    fn run_in<R>(
-        &self,
-        regs: &mut [f64],
-        q: &[f64],
-        q_dot: &[f64],
-        read: impl FnOnce(&[f64]) -> R,
-    ) -> Option<R> {
+    fn execute_in(&self, regs: &mut [f64], q: &[f64], q_dot: &[f64], read: &mut dyn FnMut(&[f64])) {
         let (n, base) = (q.len(), self.inputs + self.constants.len());
         regs[..n].copy_from_slice(q);
         regs[n..self.inputs].copy_from_slice(q_dot);
@@ -293,13 +303,13 @@ impl Program {
         let finite = self.finite.iter().all(|&w| regs[w as usize].is_finite());
         let nonzero = self.nonzero.iter().all(|&w| regs[w as usize] != 0.0);
         if !(finite && nonzero) {
-            return None;
+            return;
         }
         let (values, outputs) = regs.split_at_mut(base + self.steps.len());
         for (o, &r) in outputs.iter_mut().zip(self.outputs.iter()) {
             *o = values[r as usize];
         }
-        Some(read(outputs))
+        read(outputs);
     }
 }
 
@@ -364,7 +374,7 @@ impl Compiled {
     /// [`Compiled::trace`] for a model of dimension `N` (the tests trace one `N` only).
     pub(crate) fn trace_n<const N: usize, L: HybridLagrangian>(model: &L) -> Compiled {
         let count = model.constraints().len();
-        let terms = Program::trace(2 * N, |x| {
+        let terms = Program::trace(2 * N, &|x| {
             let t: LagrangianTerms<N, Sym> =
                 lagrangian_terms_of::<Sym, N, L>(model, &x[..N], &x[N..]);
             let mut out = Vec::with_capacity(N * (N + 1) / 2 + N);
@@ -378,7 +388,7 @@ impl Compiled {
         });
         let constraints = (0..count)
             .map(|index| {
-                Program::trace(2 * N, |x| {
+                Program::trace(2 * N, &|x| {
                     let c = constraint_parts_of::<Sym, N, L>(model, index, &x[..N], &x[N..]);
                     let mut out = vec![c.h];
                     out.extend(c.gradient.iter().copied());
@@ -390,14 +400,14 @@ impl Compiled {
             .collect();
         let guards = (0..count)
             .map(|index| {
-                Program::trace(2 * N, |x| {
+                Program::trace(2 * N, &|x| {
                     let (h, h_dot, h_ddot) =
                         guard_along_of::<Sym, L>(model, index, &x[..N], &x[N..]);
                     vec![h, h_dot, h_ddot]
                 })
             })
             .collect();
-        let energy = Program::trace(2 * N, |x| {
+        let energy = Program::trace(2 * N, &|x| {
             vec![energy_of::<Sym, L>(model, &x[..N], &x[N..])]
         });
         let free = Program::trace_outputs(2 * N, |x| {

@@ -68,8 +68,20 @@ fn check_acting<const N: usize>(
 
 /// [`check_acting`] for a constraint's direction.
 fn check_direction<const N: usize>(d: &Direction<N>, index: usize) -> Result<(), DynamicsError> {
-    let (gradient_norm2, w_norm2) = (d.gradient.norm_squared(), d.w.norm_squared());
+    let (gradient, w) = (d.gradient.as_slice(), d.w.as_slice());
+    let (gradient_norm2, w_norm2) = (dot(gradient, gradient), dot(w, w));
     check_acting(&d.pivots, d.s, gradient_norm2, w_norm2, index)
+}
+
+/// `x · y`, summed in index order over slices (one function for every dimension, where
+/// nalgebra's unrolled `dot` and `norm` were compiled once per dimension and model).
+fn dot(x: &[f64], y: &[f64]) -> f64 {
+    x.iter().zip(y).map(|(a, b)| a * b).sum()
+}
+
+/// `|x|`, as [`dot`] sums it.
+fn norm(x: &[f64]) -> f64 {
+    dot(x, x).sqrt()
 }
 
 /// A constraint's normal response, from [`Mechanics::normal`].
@@ -203,10 +215,10 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             let d = &motion.direction;
             check_direction(d, index)?;
             w[..N].copy_from_slice(d.w.as_slice());
-            let speed = SVector::<f64, N>::from_column_slice(&q_dot[..N]).norm();
-            let gradient_norm = d.gradient.norm();
+            let speed = norm(&q_dot[..N]);
+            let gradient_norm = norm(d.gradient.as_slice());
             const ROUND_OFF: f64 = 64.0 * f64::EPSILON;
-            let curvature = motion.hessian_q_dot.norm();
+            let curvature = norm(motion.hessian_q_dot.as_slice());
             let normal = Normal {
                 a_q_dot: d.a_q_dot,
                 h_ddot_free: motion.h_ddot_free,
@@ -215,7 +227,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
                 curvature: if speed > 0.0 { curvature / speed } else { 0.0 },
                 a_q_dot_round_off: ROUND_OFF * gradient_norm * speed,
                 h_ddot_round_off: ROUND_OFF
-                    * (gradient_norm * motion.acc_free.norm() + motion.a_dot_q_dot.abs()),
+                    * (gradient_norm * norm(motion.acc_free.as_slice()) + motion.a_dot_q_dot.abs()),
             };
             if normal.h_ddot_free.is_finite() { Ok(normal) } else { Err(DynamicsError::NonFinite) }
         })
@@ -263,7 +275,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         // divided by |A| in q's): a coordinate h ignores must not loosen the stop.
         let mut c = direction::<N, L>(self.model, index, q, q_dot);
         let h_scale = guard_scale(c.h, c.gradient.as_slice(), q).max(1.0);
-        let q_scale = (h_scale / c.gradient.norm()).max(1.0);
+        let q_scale = (h_scale / norm(c.gradient.as_slice())).max(1.0);
         let mut best = f64::INFINITY;
         for iteration in 0..MAX_NEWTON {
             if iteration > 0 {
@@ -278,17 +290,16 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             // Converged: the Newton step is at round-off, or h has stopped decreasing. Then the
             // velocity: the plastic impact at this position, with this factorisation.
             if c.h == 0.0
-                || step.abs() * w.norm() <= 4.0 * f64::EPSILON * q_scale
+                || step.abs() * norm(w.as_slice()) <= 4.0 * f64::EPSILON * q_scale
                 || c.h.abs() >= best
             {
                 let scale = c.a_q_dot / s;
                 for (v, wi) in q_dot.iter_mut().zip(w.as_slice()) {
                     *v -= scale * wi;
                 }
-                let v = SVector::<f64, N>::from_column_slice(&q_dot[..N]);
                 let residuals = Residuals {
                     h: c.h.abs(),
-                    a_q_dot: c.gradient.dot(&v).abs(),
+                    a_q_dot: dot(c.gradient.as_slice(), &q_dot[..N]).abs(),
                 };
                 if residuals.h > 1e-12 * h_scale {
                     break;

@@ -214,7 +214,7 @@ impl Drop for Session {
 
 /// Traces `f` over `inputs` traced inputs: the tape and `f`'s outputs, or `None` when the trace
 /// is poisoned or another trace is already running on this thread.
-pub(crate) fn trace(inputs: usize, f: impl FnOnce(&[Sym]) -> Vec<Sym>) -> Option<(Tape, Vec<Sym>)> {
+pub(crate) fn trace(inputs: usize, f: &dyn Fn(&[Sym]) -> Vec<Sym>) -> Option<(Tape, Vec<Sym>)> {
     if active() {
         return None;
     }
