@@ -25,6 +25,8 @@ use crate::motion::{
 };
 use crate::trace::{self, Bin, Node, Sym, Tape, Term, Un};
 use nalgebra::{SMatrix, SVector};
+use std::cell::RefCell;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// One instruction; its result goes to the next register.
 #[derive(Clone, Copy, Debug)]
@@ -64,7 +66,62 @@ struct Program {
     /// The outputs, when all are constants (a program with no step: the free motion of a point
     /// mass under constant forces); a run then only checks the witnesses.
     constant_outputs: Option<Box<[f64]>>,
+    /// Tells programs apart (a clone keeps it: its constants are the same), so that a run finds
+    /// its constants still in place when the thread's last run was of the same program.
+    id: u64,
 }
+
+/// The registers of this thread's runs, and the [`Program::id`] of the program whose constants
+/// they hold. A run writes every register before it reads it, so they are never cleared.
+struct Registers {
+    /// For programs of at most [`SMALL`] registers (those of every model but the largest).
+    small: [f64; SMALL],
+    /// For larger programs.
+    large: Vec<f64>,
+    constants_of: u64,
+}
+
+/// The size of [`Registers::small`]: indexed by a byte, it needs no bounds check.
+const SMALL: usize = 256;
+
+thread_local! {
+    static REGISTERS: RefCell<Registers> = const {
+        RefCell::new(Registers { small: [0.0; SMALL], large: Vec::new(), constants_of: 0 })
+    };
+}
+
+/// Registers as a program addresses them.
+trait Bank {
+    fn get(&self, k: usize) -> f64;
+    fn set(&mut self, k: usize, value: f64);
+}
+
+/// Indexed by the low byte of the register number: the program's registers are fewer than
+/// [`SMALL`], so that is the register number itself.
+impl Bank for [f64; SMALL] {
+    #[inline(always)]
+    fn get(&self, k: usize) -> f64 {
+        self[k as u8 as usize]
+    }
+    #[inline(always)]
+    fn set(&mut self, k: usize, value: f64) {
+        self[k as u8 as usize] = value;
+    }
+}
+
+impl Bank for [f64] {
+    #[inline(always)]
+    fn get(&self, k: usize) -> f64 {
+        self[k]
+    }
+    #[inline(always)]
+    fn set(&mut self, k: usize, value: f64) {
+        self[k] = value;
+    }
+}
+
+/// The next [`Program::id`] (0 is no program).
+static NEXT_ID: AtomicU64 = AtomicU64::new(1);
 
 impl Program {
     /// Traces `f` over `inputs` traced inputs into a program computing its outputs; `None` when
@@ -205,6 +262,7 @@ impl Program {
             outputs: output_registers.into(),
             finite: registers(&finite),
             nonzero: registers(&nonzero),
+            id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
         }
     }
 
@@ -241,50 +299,88 @@ impl Program {
     /// not once per kind of output and dimension.
     #[inline]
     fn run<R>(&self, q: &[f64], q_dot: &[f64], read: impl FnOnce(&[f64]) -> R) -> Option<R> {
-        let mut read = Some(read);
-        let mut result = None;
-        self.execute(q, q_dot, &mut |outputs| {
-            result = read.take().map(|read| read(outputs));
-        });
-        result
-    }
-
-    /// [`Program::run`] with the outputs handed to `read` (not called when a witness fails).
-    fn execute(&self, q: &[f64], q_dot: &[f64], read: &mut dyn FnMut(&[f64])) {
         if let Some(outputs) = &self.constant_outputs {
-            // No step: the witnesses are inputs or constants.
-            let n = q.len();
-            let register = |w: u32| match w as usize {
-                w if w < n => q[w],
-                w if w < self.inputs => q_dot[w - n],
-                w => self.constants[w - self.inputs],
-            };
-            let finite = self.finite.iter().all(|&w| register(w).is_finite());
-            let nonzero = self.nonzero.iter().all(|&w| register(w) != 0.0);
-            if finite && nonzero {
-                read(outputs);
-            }
-            return;
+            return self
+                .constant_witnesses_hold(q, q_dot)
+                .then(|| read(outputs));
         }
-        // Registers on the stack for the sizes models have; the heap beyond.
-        match self.registers {
-            len @ 0..=32 => self.execute_in(&mut [0.0; 32][..len], q, q_dot, read),
-            len @ 33..=64 => self.execute_in(&mut [0.0; 64][..len], q, q_dot, read),
-            len @ 65..=128 => self.execute_in(&mut [0.0; 128][..len], q, q_dot, read),
-            len @ 129..=512 => self.execute_in(&mut [0.0; 512][..len], q, q_dot, read),
-            len => self.execute_in(&mut vec![0.0; len], q, q_dot, read),
+        // `read` only converts numbers (it runs no program), so the registers are free here.
+        REGISTERS.with(|cell| self.execute(&mut cell.borrow_mut(), q, q_dot).map(read))
+    }
+
+    /// The witnesses of a program without steps, whose witnesses are inputs or constants.
+    fn constant_witnesses_hold(&self, q: &[f64], q_dot: &[f64]) -> bool {
+        let n = q.len();
+        let register = |w: u32| match w as usize {
+            w if w < n => q[w],
+            w if w < self.inputs => q_dot[w - n],
+            w => self.constants[w - self.inputs],
+        };
+        let finite = self.finite.iter().all(|&w| register(w).is_finite());
+        let nonzero = self.nonzero.iter().all(|&w| register(w) != 0.0);
+        finite && nonzero
+    }
+
+    /// Runs the program in `registers`: its outputs, in order, or `None` when a witness fails.
+    fn execute<'r>(
+        &self,
+        registers: &'r mut Registers,
+        q: &[f64],
+        q_dot: &[f64],
+    ) -> Option<&'r [f64]> {
+        assert!(
+            q.len() == q_dot.len() && q.len() + q_dot.len() == self.inputs,
+            "a program of {} inputs run on {} + {} numbers",
+            self.inputs,
+            q.len(),
+            q_dot.len()
+        );
+        // The constants stay in place while the thread runs the same program.
+        let fill = registers.constants_of != self.id;
+        registers.constants_of = self.id;
+        let tail = self.inputs + self.constants.len() + self.steps.len();
+        let outputs = tail..tail + self.outputs.len();
+        if self.registers <= SMALL {
+            let regs = &mut registers.small;
+            self.execute_in(regs, fill, q, q_dot)
+                .then(|| &regs[outputs])
+        } else {
+            let regs = &mut registers.large;
+            if regs.len() < self.registers {
+                regs.resize(self.registers, 0.0);
+            }
+            let regs = &mut regs[..self.registers];
+            self.execute_in(regs, fill, q, q_dot)
+                .then(|| &regs[outputs])
         }
     }
 
+    /// Runs the program in `regs` (its constants in place unless `fill`), and gathers its
+    /// outputs after its steps; `false` when a witness fails.
     #[inline(always)]
-    fn execute_in(&self, regs: &mut [f64], q: &[f64], q_dot: &[f64], read: &mut dyn FnMut(&[f64])) {
-        let (n, base) = (q.len(), self.inputs + self.constants.len());
-        regs[..n].copy_from_slice(q);
-        regs[n..self.inputs].copy_from_slice(q_dot);
-        regs[self.inputs..base].copy_from_slice(&self.constants);
+    fn execute_in<B: Bank + ?Sized>(
+        &self,
+        regs: &mut B,
+        fill: bool,
+        q: &[f64],
+        q_dot: &[f64],
+    ) -> bool {
+        let n = q.len();
+        for (k, &x) in q.iter().enumerate() {
+            regs.set(k, x);
+        }
+        for (k, &x) in q_dot.iter().enumerate() {
+            regs.set(n + k, x);
+        }
+        if fill {
+            for (k, &c) in self.constants.iter().enumerate() {
+                regs.set(self.inputs + k, c);
+            }
+        }
+        let base = self.inputs + self.constants.len();
         for (i, step) in self.steps.iter().enumerate() {
-            let x = |k: u32| regs[k as usize];
-            regs[base + i] = match *step {
+            let x = |k: u32| regs.get(k as usize);
+            let value = match *step {
                 Step::Add(a, b) => x(a) + x(b),
                 Step::Sub(a, b) => x(a) - x(b),
                 Step::Mul(a, b) => x(a) * x(b),
@@ -294,22 +390,27 @@ impl Program {
                 Step::MulAdd(a, b, c) => x(a).mul_add(x(b), x(c)),
                 Step::SinCos(a) => {
                     let (sin, cos) = x(a).sin_cos();
-                    regs[base + i + 1] = cos;
+                    regs.set(base + i + 1, cos);
                     sin
                 }
                 Step::Taken => continue,
             };
+            regs.set(base + i, value);
         }
-        let finite = self.finite.iter().all(|&w| regs[w as usize].is_finite());
-        let nonzero = self.nonzero.iter().all(|&w| regs[w as usize] != 0.0);
+        let finite = self
+            .finite
+            .iter()
+            .all(|&w| regs.get(w as usize).is_finite());
+        let nonzero = self.nonzero.iter().all(|&w| regs.get(w as usize) != 0.0);
         if !(finite && nonzero) {
-            return;
+            return false;
         }
-        let (values, outputs) = regs.split_at_mut(base + self.steps.len());
-        for (o, &r) in outputs.iter_mut().zip(self.outputs.iter()) {
-            *o = values[r as usize];
+        let tail = base + self.steps.len();
+        for (k, &r) in self.outputs.iter().enumerate() {
+            let value = regs.get(r as usize);
+            regs.set(tail + k, value);
         }
-        read(outputs);
+        true
     }
 }
 
@@ -495,6 +596,13 @@ impl Compiled {
     #[cfg(test)]
     pub(crate) fn free_operations(&self) -> Option<usize> {
         self.free.as_ref().map(|p| p.steps.len())
+    }
+
+    /// Whether some program needs more registers than a run keeps in its small bank (so that
+    /// it runs in the large one).
+    #[cfg(test)]
+    pub(crate) fn uses_large_registers(&self) -> bool {
+        self.parts().flatten().any(|p| p.registers > SMALL)
     }
 
     /// The program of dimension `N` in `slot`, if traced.

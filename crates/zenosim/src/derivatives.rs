@@ -82,6 +82,18 @@ pub(crate) struct ConstraintParts<const N: usize, T> {
     pub hessian_q_dot: SVector<T, N>,
 }
 
+/// `[f(0), …, f(N − 1)]`, filled over `fill` by a plain loop: std's `array::from_fn` goes
+/// through its fallible machinery, which was compiled once per closure, dimension and model (a
+/// fifth of a benchmark binary's code).
+#[inline(always)]
+pub(crate) fn array<X: Copy, const N: usize>(fill: X, mut f: impl FnMut(usize) -> X) -> [X; N] {
+    let mut out = [fill; N];
+    for (k, x) in out.iter_mut().enumerate() {
+        *x = f(k);
+    }
+    out
+}
+
 /// 1 or 0 as a `T`: a seed of a dual number.
 fn unit<T: Scalar>(on: bool) -> T {
     if on {
@@ -101,11 +113,11 @@ pub(crate) fn mass_matrix_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     q: &[T],
     q_dot: &[T],
 ) -> SMatrix<T, N, N> {
-    let q_d: [HyperDual<T>; N] = std::array::from_fn(|k| HyperDual::from_re(q[k]));
+    let q_d: [HyperDual<T>; N] = array(HyperDual::from_re(T::zero()), |k| HyperDual::from_re(q[k]));
     let mut mass = SMatrix::<T, N, N>::zeros();
     for i in 0..N {
         for j in i..N {
-            let q_dot_d: [HyperDual<T>; N] = std::array::from_fn(|k| {
+            let q_dot_d: [HyperDual<T>; N] = array(HyperDual::from_re(T::zero()), |k| {
                 HyperDual::new(q_dot[k], unit(k == i), unit(k == j), T::zero())
             });
             let m_ij = model.lagrangian(&q_d, &q_dot_d).eps1eps2;
@@ -126,26 +138,28 @@ pub(crate) fn lagrangian_terms_of<T: Scalar, const N: usize, L: HybridLagrangian
 
     // (∂²L/∂q̇∂q) q̇: one scalar hyper-dual pass per row, ε₁ on q̇_i, ε₂ along q̇ in q (cheaper
     // than one pass over a hyper-dual vector, whose optional parts cost branches per operation).
-    let q_along: [HyperDual<T>; N] =
-        std::array::from_fn(|k| HyperDual::new(q[k], T::zero(), q_dot[k], T::zero()));
-    let mixed: [T; N] = std::array::from_fn(|i| {
-        let q_dot_d: [HyperDual<T>; N] =
-            std::array::from_fn(|k| HyperDual::new(q_dot[k], unit(k == i), T::zero(), T::zero()));
+    let q_along: [HyperDual<T>; N] = array(HyperDual::from_re(T::zero()), |k| {
+        HyperDual::new(q[k], T::zero(), q_dot[k], T::zero())
+    });
+    let mixed: [T; N] = array(T::zero(), |i| {
+        let q_dot_d: [HyperDual<T>; N] = array(HyperDual::from_re(T::zero()), |k| {
+            HyperDual::new(q_dot[k], unit(k == i), T::zero(), T::zero())
+        });
         model.lagrangian(&q_along, &q_dot_d).eps1eps2
     });
 
     // ∂L/∂q: one scalar dual pass per coordinate. Scalar passes only, here and below: the
     // model's functions are then compiled for a few number types whatever the dimension, where
     // dual vectors made one copy per dimension (most of the build time of a model's crate).
-    let q_dot_g: [Dual<T>; N] = std::array::from_fn(|k| Dual::from_re(q_dot[k]));
-    let dl_dq: [T; N] = std::array::from_fn(|i| {
-        let q_g: [Dual<T>; N] = std::array::from_fn(|k| Dual::new(q[k], unit(k == i)));
+    let q_dot_g: [Dual<T>; N] = array(Dual::from_re(T::zero()), |k| Dual::from_re(q_dot[k]));
+    let dl_dq: [T; N] = array(T::zero(), |i| {
+        let q_g: [Dual<T>; N] = array(Dual::from_re(T::zero()), |k| Dual::new(q[k], unit(k == i)));
         model.lagrangian(&q_g, &q_dot_g).eps
     });
 
     LagrangianTerms {
         mass,
-        force: SVector::<T, N>::from_fn(|i, _| dl_dq[i] - mixed[i]),
+        force: SVector::from(array(T::zero(), |i| dl_dq[i] - mixed[i])),
     }
 }
 
@@ -157,16 +171,17 @@ pub(crate) fn constraint_parts_of<T: Scalar, const N: usize, L: HybridLagrangian
     q: &[T],
     q_dot: &[T],
 ) -> ConstraintParts<N, T> {
-    let passes: [HyperDual<T>; N] = std::array::from_fn(|i| {
-        let q_d: [HyperDual<T>; N] =
-            std::array::from_fn(|k| HyperDual::new(q[k], unit(k == i), q_dot[k], T::zero()));
+    let passes: [HyperDual<T>; N] = array(HyperDual::from_re(T::zero()), |i| {
+        let q_d: [HyperDual<T>; N] = array(HyperDual::from_re(T::zero()), |k| {
+            HyperDual::new(q[k], unit(k == i), q_dot[k], T::zero())
+        });
         model.constraint(index, &q_d)
     });
     ConstraintParts {
         h: passes[0].re,
-        gradient: SVector::<T, N>::from_fn(|i, _| passes[i].eps1),
+        gradient: SVector::from(array(T::zero(), |i| passes[i].eps1)),
         a_q_dot: passes[0].eps2,
-        hessian_q_dot: SVector::<T, N>::from_fn(|i, _| passes[i].eps1eps2),
+        hessian_q_dot: SVector::from(array(T::zero(), |i| passes[i].eps1eps2)),
     }
 }
 
@@ -760,16 +775,23 @@ mod tests {
         }
 
         /// The compiled derivatives of every example model, and of the coupled test model, are
-        /// the differentiated ones, bit for bit.
+        /// the differentiated ones, bit for bit. The chain's programs are large enough to run
+        /// in the large bank of registers, the others in the small one.
         #[test]
         fn compiled_derivatives_are_the_differentiated_ones(
-            q in vec_in(-3.0..3.0, 3),
-            v in vec_in(-3.0..3.0, 3),
+            q in vec_in(-3.0..3.0, 4),
+            v in vec_in(-3.0..3.0, 4),
         ) {
             let ball = BouncingBall::new(1.3, 9.81, 0.5);
             check_compiled::<1, _>(&ball, &crate::Compiled::trace_n::<1, _>(&ball), &q[..1], &v[..1])?;
             let sine = BallOnSine::paper().model;
-            check_compiled::<3, _>(&sine, &crate::Compiled::trace_n::<3, _>(&sine), &q, &v)?;
+            let traced = crate::Compiled::trace_n::<3, _>(&sine);
+            prop_assert!(!traced.uses_large_registers());
+            check_compiled::<3, _>(&sine, &traced, &q[..3], &v[..3])?;
+            let chain = PendulumChain::new(4, 0.5, 0.5, 9.81, 1.0, 0.5);
+            let traced = crate::Compiled::trace_n::<4, _>(&chain);
+            prop_assert!(traced.uses_large_registers());
+            check_compiled::<4, _>(&chain, &traced, &q, &v)?;
             let cart = CartPendulum::demo().model;
             check_compiled::<2, _>(&cart, &crate::Compiled::trace_n::<2, _>(&cart), &q[..2], &v[..2])?;
             let sph = SphericalPendulum::demo().model;

@@ -9,7 +9,8 @@
 //! caller ([`crate::mechanics`]) from the outputs: the pivots of the factorisation and `A M⁻¹ Aᵀ`.
 
 use crate::derivatives::{
-    constraint_parts_of, lagrangian_terms_of, mass_matrix_of, ConstraintParts, LagrangianTerms,
+    array, constraint_parts_of, lagrangian_terms_of, mass_matrix_of, ConstraintParts,
+    LagrangianTerms,
 };
 use crate::model::{HybridLagrangian, Scalar};
 use nalgebra::{SMatrix, SVector};
@@ -311,11 +312,11 @@ fn constrained_from<T: Scalar, const N: usize>(
     let factor = Factor::new(&terms.mass);
     let acc_free = factor.solve(&terms.force);
     let (direction, hessian_q_dot) = direction_from(parts, &factor);
-    let v = SVector::<T, N>::from_fn(|i, _| q_dot[i]);
+    let v = SVector::<T, N>::from(array(T::zero(), |i| q_dot[i]));
     let a_dot_q_dot = dot(&hessian_q_dot, &v);
     let h_ddot_free = dot(&direction.gradient, &acc_free) + a_dot_q_dot;
     let lambda = h_ddot_free / direction.s;
-    let acc = SVector::<T, N>::from_fn(|i, _| acc_free[i] - direction.w[i] * lambda);
+    let acc = SVector::from(array(T::zero(), |i| acc_free[i] - direction.w[i] * lambda));
     ConstrainedMotion {
         direction,
         hessian_q_dot,
