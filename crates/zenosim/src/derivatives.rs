@@ -85,7 +85,6 @@ pub(crate) struct ConstraintParts<const N: usize, T> {
 /// `[f(0), …, f(N − 1)]`, filled over `fill` by a plain loop: std's `array::from_fn` goes
 /// through its fallible machinery, which was compiled once per closure, dimension and model (a
 /// fifth of a benchmark binary's code).
-#[inline(always)]
 pub(crate) fn array<X: Copy, const N: usize>(fill: X, mut f: impl FnMut(usize) -> X) -> [X; N] {
     let mut out = [fill; N];
     for (k, x) in out.iter_mut().enumerate() {
