@@ -10,7 +10,7 @@
 use crate::derivatives::{constraint_terms, mass_matrix, with_dimension};
 use crate::model::HybridLagrangian;
 use crate::motion::{
-    check_pivots, constrained_motion, degenerate, direction, free_motion, held_acceleration,
+    check_pivots, constrained_motion, degenerate, direction, dot, free_motion, held_acceleration,
     pivots, Direction, PivotError,
 };
 use nalgebra::SVector;
@@ -73,13 +73,8 @@ fn check_direction<const N: usize>(d: &Direction<N>, index: usize) -> Result<(),
     check_acting(&d.pivots, d.s, gradient_norm2, w_norm2, index)
 }
 
-/// `x · y`, summed in index order over slices (one function for every dimension, where
-/// nalgebra's unrolled `dot` and `norm` were compiled once per dimension and model).
-fn dot(x: &[f64], y: &[f64]) -> f64 {
-    x.iter().zip(y).map(|(a, b)| a * b).sum()
-}
-
-/// `|x|`, as [`dot`] sums it.
+/// `|x|`, summed as [`dot`] sums (over slices: nalgebra's unrolled `norm` was compiled once per
+/// dimension and model).
 fn norm(x: &[f64]) -> f64 {
     dot(x, x).sqrt()
 }

@@ -235,11 +235,12 @@ impl<const N: usize, T: Scalar> Outputs<T> for HeldAcceleration<N, T> {
     }
 }
 
-/// `a · b` in index order (the same sum over every number type).
-fn dot<const N: usize, T: Scalar>(a: &SVector<T, N>, b: &SVector<T, N>) -> T {
+/// `a · b` in index order from zero (the same sum over every number type), over slices: one
+/// function for every dimension.
+pub(crate) fn dot<T: Scalar>(a: &[T], b: &[T]) -> T {
     let mut sum = T::zero();
-    for i in 0..N {
-        sum += a[i] * b[i];
+    for (&x, &y) in a.iter().zip(b) {
+        sum += x * y;
     }
     sum
 }
@@ -271,7 +272,7 @@ fn direction_from<T: Scalar, const N: usize>(
     let direction = Direction {
         pivots: factor.pivots,
         h: parts.h,
-        s: dot(&parts.gradient, &w),
+        s: dot(parts.gradient.as_slice(), w.as_slice()),
         gradient: parts.gradient,
         a_q_dot: parts.a_q_dot,
         w,
@@ -312,9 +313,8 @@ fn constrained_from<T: Scalar, const N: usize>(
     let factor = Factor::new(&terms.mass);
     let acc_free = factor.solve(&terms.force);
     let (direction, hessian_q_dot) = direction_from(parts, &factor);
-    let v = SVector::<T, N>::from(array(T::zero(), |i| q_dot[i]));
-    let a_dot_q_dot = dot(&hessian_q_dot, &v);
-    let h_ddot_free = dot(&direction.gradient, &acc_free) + a_dot_q_dot;
+    let a_dot_q_dot = dot(hessian_q_dot.as_slice(), &q_dot[..N]);
+    let h_ddot_free = dot(direction.gradient.as_slice(), acc_free.as_slice()) + a_dot_q_dot;
     let lambda = h_ddot_free / direction.s;
     let acc = SVector::from(array(T::zero(), |i| acc_free[i] - direction.w[i] * lambda));
     ConstrainedMotion {
@@ -349,8 +349,8 @@ fn held_from<T: Scalar, const N: usize>(
         lambda: motion.lambda,
         pivots: d.pivots,
         s: d.s,
-        gradient_norm2: dot(&d.gradient, &d.gradient),
-        w_norm2: dot(&d.w, &d.w),
+        gradient_norm2: dot(d.gradient.as_slice(), d.gradient.as_slice()),
+        w_norm2: dot(d.w.as_slice(), d.w.as_slice()),
     }
 }
 
