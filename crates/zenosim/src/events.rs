@@ -163,6 +163,7 @@ fn hermite(p0: f64, p1: f64, m0: f64, m1: f64, s: f64) -> (f64, f64) {
 /// sign change.
 fn cubic_root(a: f64, ga: f64, da: f64, b: f64, gb: f64, db: f64) -> f64 {
     let w = b - a;
+    let quarter_ulp = 0.25 * (b.next_up() - b);
     let (mut lo, mut hi) = (0.0, 1.0);
     let mut s = ga / (ga - gb);
     // Newton converges quadratically from the secant's start: a few steps reach rounding.
@@ -179,7 +180,8 @@ fn cubic_root(a: f64, ga: f64, da: f64, b: f64, gb: f64, db: f64) -> f64 {
         } else {
             0.5 * (lo + hi)
         };
-        let done = (next - s).abs() <= 4.0 * f64::EPSILON;
+        // Done when the step moves the time by under a quarter of an ulp.
+        let done = (next - s).abs() * w <= quarter_ulp;
         s = next;
         if done {
             break;
