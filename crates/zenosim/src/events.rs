@@ -61,7 +61,7 @@ pub fn first_crossing(
     t1: f64,
     mut g: impl FnMut(f64) -> (f64, Option<f64>),
 ) -> Option<Crossing> {
-    if t1 <= t0 {
+    if t1 <= t0 || t0.is_nan() || t1.is_nan() {
         return None;
     }
     let n = SAMPLES_PER_STEP;
@@ -241,14 +241,15 @@ fn dip(a: f64, b: f64, g: &mut impl FnMut(f64) -> (f64, Option<f64>)) -> Option<
 /// start on the surface), it first probes towards `a` for an admissible point; with none, the
 /// crossing is at `a` itself.
 ///
-/// Each trial is the root of the cubic through the values and slopes at both ends (the secant
-/// through the last two trials where `g` has no slope), moved an ulp past it away from the
-/// latest trial: the cubic is accurate to the fourth power of the bracket's width, so the
-/// bracket closes from both sides in a few evaluations instead of creeping in from one (Illinois'
-/// regula falsi, used before, took two to four times as many). It bisects whenever two trials
-/// did not halve the bracket, or landed a few ulps from an end twice running. Where `g(b)` is
-/// exactly 0 (a guard flat at its rounding, or at 0 over a stretch), it searches back from `b`,
-/// doubling the distance at each zero.
+/// Each trial is the root of the cubic through the values and slopes at both ends, moved an ulp
+/// past it away from the latest trial (where `g` has no finite slope: the secant through the
+/// last two trials, moved past its root by [`SECANT_MARGIN`] of its step). The cubic is accurate
+/// to the fourth power of the bracket's width, so the bracket closes from both sides in a few
+/// evaluations instead of creeping in from one (Illinois' regula falsi, used before, took two to
+/// four times as many). It bisects when a pair of trials did not halve the bracket, or when
+/// trials land a few ulps from an end twice running. Where `g(b)` is exactly 0 (a guard flat at
+/// its rounding, or at 0 over a stretch), it searches back from `b`, doubling the distance at
+/// each further zero at `b`, up to the midpoint.
 fn bracket(
     a: f64,
     ga: (f64, Option<f64>),
@@ -292,13 +293,13 @@ fn bracket(
     let (mut r, mut gr) = if p == b { (a, ga.0) } else { (b, gb.0) };
     let mut width_before = b - a;
     // A trial within a few ulps of an end at the last iteration (the estimates crawl there), and
-    // how many trials in a row gave exactly 0.
+    // how many violating trials in a row gave exactly 0.
     let mut crawled = false;
     let mut zeros: i32 = 0;
     for iteration in 0..300 {
         // Down to adjacent floats: short flights near a Zeno point are timed to an ulp.
         let mid = 0.5 * (a + b);
-        if mid <= a || mid >= b {
+        if mid <= a || mid >= b || mid.is_nan() {
             break;
         }
         let bisect = iteration % 2 == 1 && b - a > 0.5 * width_before;
@@ -318,7 +319,9 @@ fn bracket(
                 let back = (b.next_up() - b) * 2f64.powi(zeros.min(1000));
                 ((from - back).max(mid), 0.0)
             }
-            (Some(da), Some(db)) => (cubic_root(a, ga.0, da, b, gb.0, db), 0.0),
+            (Some(da), Some(db)) if (da * (b - a)).is_finite() && (db * (b - a)).is_finite() => {
+                (cubic_root(a, ga.0, da, b, gb.0, db), 0.0)
+            }
             _ => {
                 let secant = p - gp.0 * (p - r) / (gp.0 - gr);
                 (secant, SECANT_MARGIN * (secant - p).abs())
@@ -526,7 +529,8 @@ mod tests {
     }
 
     /// A guard that is exactly 0 past a kink (a constraint met at its rounding over a stretch):
-    /// the last admissible time is the kink, found by bisection once the trials crawl.
+    /// the last admissible time is the kink, found by searching back from the zeros, halving at
+    /// the midpoint.
     #[test]
     fn a_guard_flat_at_zero_is_bisected_to_its_edge() {
         let edge = 0.4;
@@ -539,5 +543,25 @@ mod tests {
         assert!((c.t_admissible - edge).abs() < 1e-15, "{c:?}");
         // Bisection from the samples' width 1/4 down to an ulp of 0.4 is 53 halvings.
         assert!(evaluations <= 5 + 2 * 53, "{evaluations}");
+    }
+
+    /// Slopes that are NaN or infinite say nothing: the secant takes over, and the bracket still
+    /// closes to adjacent floats (a root at 1e-12, where the ulp is 2e-28).
+    #[test]
+    fn a_guard_with_useless_slopes_is_closed_by_the_secant() {
+        for slope in [f64::NAN, f64::INFINITY] {
+            let (_, c) = counted(0.0, 1.0, |t| (1e-12 - t, Some(slope)));
+            assert!(adjacent(c), "{c:?}");
+            assert!(c.t_admissible < 1e-12 && c.t_violating >= 1e-12, "{c:?}");
+        }
+    }
+
+    /// A NaN start is no time: no crossing from it, and no panic.
+    #[test]
+    fn a_nan_start_does_not_panic() {
+        let guard = |t: f64| (if t >= 1.0 { 0.0 } else { 1.0 }, None);
+        assert_eq!(first_crossing(f64::NAN, 1.0, guard), None);
+        // An infinite start makes NaN samples: it ends without a panic either.
+        let _ = first_crossing(f64::NEG_INFINITY, 1.0, guard);
     }
 }
