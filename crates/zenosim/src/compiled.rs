@@ -39,10 +39,8 @@ enum Step {
     Bin(Bin, u32, u32),
     MulAdd(u32, u32, u32),
     /// `sin` into this register and `cos` into the next (one libm call, as num-dual's `f64`
-    /// code gets): the next step is [`Step::Taken`].
+    /// code gets): the next step's result goes to the register after both.
     SinCos(u32),
-    /// The register [`Step::SinCos`] filled.
-    Taken,
 }
 
 /// A straight-line program of `f64` operations.
@@ -53,6 +51,8 @@ struct Program {
     inputs: usize,
     constants: Box<[f64]>,
     steps: Box<[Step]>,
+    /// The registers the steps fill: one per step, two per [`Step::SinCos`].
+    work: usize,
     outputs: Box<[u32]>,
     /// Registers that must be finite for the outputs to be the dual numbers' (the values that
     /// products with a structural zero dropped).
@@ -196,12 +196,13 @@ impl Program {
                 .filter(|&p| live[p as usize] && p as usize != id)
         };
         let mut steps = Vec::new();
+        let mut work = 0;
         for (id, node) in nodes.iter().enumerate() {
             if !live[id] || register[id] != u32::MAX {
                 continue;
             }
             let r = |x: u32| register[x as usize];
-            let here = (base + steps.len()) as u32;
+            let here = (base + work) as u32;
             let step = match *node {
                 Node::Input(_) | Node::Const(_) => continue,
                 Node::Un(op @ (Un::Sin | Un::Cos), a) => {
@@ -217,7 +218,7 @@ impl Program {
                             register[sin] = here;
                             register[cos] = here + 1;
                             steps.push(step);
-                            steps.push(Step::Taken);
+                            work += 2;
                             continue;
                         }
                         None => Step::Un(op, r(a)),
@@ -233,6 +234,7 @@ impl Program {
             };
             register[id] = here;
             steps.push(step);
+            work += 1;
         }
         for (k, out) in outputs.iter().enumerate() {
             if let Term::Node(id) = out.term {
@@ -245,6 +247,10 @@ impl Program {
             list.dedup();
             list.into()
         };
+        let (mut finite, mut nonzero) = (registers(&finite), registers(&nonzero));
+        // Without steps, every witness is an input or a constant: the constants' are checked
+        // here once (a program whose constant witness fails always runs, and always fails), and
+        // a run checks the inputs' only.
         let constant_outputs = output_registers
             .iter()
             .map(|&r| {
@@ -252,16 +258,32 @@ impl Program {
                 constants.get(k).copied()
             })
             .collect::<Option<Box<[f64]>>>()
-            .filter(|_| steps.is_empty());
+            .filter(|_| steps.is_empty())
+            .filter(|_| {
+                let constant = |w: &u32| constants.get((*w as usize).wrapping_sub(inputs));
+                finite.iter().filter_map(constant).all(|c| c.is_finite())
+                    && nonzero.iter().filter_map(constant).all(|&c| c != 0.0)
+            });
+        if constant_outputs.is_some() {
+            let input = |list: &[u32]| {
+                list.iter()
+                    .copied()
+                    .filter(|&w| (w as usize) < inputs)
+                    .collect()
+            };
+            finite = input(&finite);
+            nonzero = input(&nonzero);
+        }
         Program {
             inputs,
-            registers: inputs + constants.len() + steps.len() + output_registers.len(),
+            registers: inputs + constants.len() + work + output_registers.len(),
+            work,
             constant_outputs,
             constants: constants.into(),
             steps: steps.into(),
             outputs: output_registers.into(),
-            finite: registers(&finite),
-            nonzero: registers(&nonzero),
+            finite,
+            nonzero,
             id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
         }
     }
@@ -308,17 +330,16 @@ impl Program {
         REGISTERS.with(|cell| self.execute(&mut cell.borrow_mut(), q, q_dot).map(read))
     }
 
-    /// The witnesses of a program without steps, whose witnesses are inputs or constants.
+    /// The witnesses of a program without steps: inputs only (its constants' were checked
+    /// when it was built).
     fn constant_witnesses_hold(&self, q: &[f64], q_dot: &[f64]) -> bool {
         let n = q.len();
-        let register = |w: u32| match w as usize {
+        let input = |w: u32| match w as usize {
             w if w < n => q[w],
-            w if w < self.inputs => q_dot[w - n],
-            w => self.constants[w - self.inputs],
+            w => q_dot[w - n],
         };
-        let finite = self.finite.iter().all(|&w| register(w).is_finite());
-        let nonzero = self.nonzero.iter().all(|&w| register(w) != 0.0);
-        finite && nonzero
+        self.finite.iter().all(|&w| input(w).is_finite())
+            && self.nonzero.iter().all(|&w| input(w) != 0.0)
     }
 
     /// Runs the program in `registers`: its outputs, in order, or `None` when a witness fails.
@@ -338,7 +359,7 @@ impl Program {
         // The constants stay in place while the thread runs the same program.
         let fill = registers.constants_of != self.id;
         registers.constants_of = self.id;
-        let tail = self.inputs + self.constants.len() + self.steps.len();
+        let tail = self.inputs + self.constants.len() + self.work;
         let outputs = tail..tail + self.outputs.len();
         if self.registers <= SMALL {
             let regs = &mut registers.small;
@@ -366,19 +387,18 @@ impl Program {
         q_dot: &[f64],
     ) -> bool {
         let n = q.len();
-        for (k, &x) in q.iter().enumerate() {
+        for (k, (&x, &v)) in q.iter().zip(q_dot).enumerate() {
             regs.set(k, x);
-        }
-        for (k, &x) in q_dot.iter().enumerate() {
-            regs.set(n + k, x);
+            regs.set(n + k, v);
         }
         if fill {
             for (k, &c) in self.constants.iter().enumerate() {
                 regs.set(self.inputs + k, c);
             }
         }
-        let base = self.inputs + self.constants.len();
-        for (i, step) in self.steps.iter().enumerate() {
+        // Each step's result goes to the next register (two for a `SinCos`).
+        let mut here = self.inputs + self.constants.len();
+        for step in &self.steps {
             let x = |k: u32| regs.get(k as usize);
             let value = match *step {
                 Step::Add(a, b) => x(a) + x(b),
@@ -390,12 +410,13 @@ impl Program {
                 Step::MulAdd(a, b, c) => x(a).mul_add(x(b), x(c)),
                 Step::SinCos(a) => {
                     let (sin, cos) = x(a).sin_cos();
-                    regs.set(base + i + 1, cos);
-                    sin
+                    regs.set(here, sin);
+                    here += 1;
+                    cos
                 }
-                Step::Taken => continue,
             };
-            regs.set(base + i, value);
+            regs.set(here, value);
+            here += 1;
         }
         let finite = self
             .finite
@@ -405,10 +426,10 @@ impl Program {
         if !(finite && nonzero) {
             return false;
         }
-        let tail = base + self.steps.len();
-        for (k, &r) in self.outputs.iter().enumerate() {
+        for &r in self.outputs.iter() {
             let value = regs.get(r as usize);
-            regs.set(tail + k, value);
+            regs.set(here, value);
+            here += 1;
         }
         true
     }
@@ -582,7 +603,7 @@ impl Compiled {
 
     /// The number of `f64` operations of all programs together.
     pub fn operations(&self) -> usize {
-        self.parts().flatten().map(|p| p.steps.len()).sum()
+        self.parts().flatten().map(|p| p.work).sum()
     }
 
     /// Whether `M` is constant: the traced Euler–Lagrange terms give every entry of `M` as a
@@ -595,7 +616,7 @@ impl Compiled {
     /// The number of operations of the free motion's program, if traced.
     #[cfg(test)]
     pub(crate) fn free_operations(&self) -> Option<usize> {
-        self.free.as_ref().map(|p| p.steps.len())
+        self.free.as_ref().map(|p| p.work)
     }
 
     /// Whether some program needs more registers than a run keeps in its small bank (so that

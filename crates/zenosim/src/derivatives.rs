@@ -685,6 +685,16 @@ mod tests {
         // guard, the motion held on the surface and its direction need a handful.
         assert_eq!(compiled.free_operations(), Some(0));
         assert!(compiled.constant_mass());
+        // That constant is the dual numbers' only where q̇ is finite (they multiply it by M's
+        // zero derivatives): a run checks the velocity, and gives nothing where it is not.
+        let q = [0.1, 0.2, 0.3];
+        assert!(compiled.free_motion::<3>(&q, &[1.0, 2.0, 3.0]).is_some());
+        assert!(compiled
+            .free_motion::<3>(&q, &[1.0, f64::NAN, 3.0])
+            .is_none());
+        assert!(compiled
+            .free_motion::<3>(&q, &[1.0, 2.0, f64::INFINITY])
+            .is_none());
         // The cart pendulum's M depends on θ: its motion is assembled from the traced parts.
         let cart = CartPendulum::demo().model;
         assert!(!crate::Compiled::trace_n::<2, _>(&cart).constant_mass());
