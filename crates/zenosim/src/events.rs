@@ -134,8 +134,15 @@ fn between(
     // H's interior minimum, where a near miss would be (unless it is closer to an end than time
     // resolves: a start on the surface whose `ġ` rounds to −1e-17).
     let clear = |s: f64| cubic(s) - 32.0 * misfit * (s * (1.0 - s)).powi(2) > 0.0;
+    let minimum = cubic_minimum(p0, p1, m0, m1);
+    // At once where H's least value on [0, 1] (at an end or at its one interior minimum)
+    // exceeds the profile's largest, 2 misfit at s = ½: then every sample below is clear too.
+    let least = p0.min(p1).min(minimum.map_or(f64::INFINITY, cubic));
+    if least > 2.0 * misfit {
+        return None;
+    }
     let resolution = time_resolution(b) / width;
-    let minimum = cubic_minimum(p0, p1, m0, m1).filter(|s| s.min(1.0 - s) > resolution);
+    let minimum = minimum.filter(|s| s.min(1.0 - s) > resolution);
     let samples = (1..32).map(|k| f64::from(k) / 32.0);
     if samples.chain(minimum).all(clear) {
         return None;
