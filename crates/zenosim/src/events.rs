@@ -137,8 +137,9 @@ fn between(
     let minimum = cubic_minimum(p0, p1, m0, m1);
     // At once where H's least value on [0, 1] (at an end or at its one interior minimum)
     // exceeds the profile's largest, 2 misfit at s = ½: then every sample below is clear too.
-    let least = p0.min(p1).min(minimum.map_or(f64::INFINITY, cubic));
-    if least > 2.0 * misfit {
+    // (Each compared on its own: a NaN anywhere fails the test.)
+    let profile = 2.0 * misfit;
+    if p0 > profile && p1 > profile && minimum.is_none_or(|s| cubic(s) > profile) {
         return None;
     }
     let resolution = time_resolution(b) / width;
