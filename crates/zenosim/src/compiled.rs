@@ -16,7 +16,7 @@
 
 use crate::derivatives::{
     constraint_parts_of, energy_of, guard_along_of, lagrangian_terms_of, with_dimension,
-    ConstraintParts, LagrangianTerms, MAX_DIMENSION,
+    ConstraintParts, LagrangianTerms,
 };
 use crate::model::HybridLagrangian;
 use crate::motion::{
@@ -45,7 +45,8 @@ enum Step {
 
 /// A straight-line program of `f64` operations.
 ///
-/// Registers: the inputs `q` then `q̇` (`2n`), the constants, then one per step.
+/// Registers: the inputs `q` then `q̇` (`2n`), the constants, then one per step (two per
+/// [`Step::SinCos`]).
 #[derive(Clone, Debug)]
 struct Program {
     inputs: usize,
@@ -60,11 +61,12 @@ struct Program {
     /// Registers that must not be zero for the outputs to be the dual numbers' (possibly
     /// mis-signed zeros that a sign-sensitive operation takes).
     nonzero: Box<[u32]>,
-    /// The registers a run needs: the inputs, the constants, one per step, then the outputs
-    /// gathered in order.
+    /// The registers a run needs: the inputs, the constants, the steps' (`work`), then the
+    /// outputs gathered in order.
     registers: usize,
     /// The outputs, when all are constants (a program with no step: the free motion of a point
-    /// mass under constant forces); a run then only checks the witnesses.
+    /// mass under constant forces); a run then only checks the witnesses among the inputs
+    /// (the constants' were checked when it was built).
     constant_outputs: Option<Box<[f64]>>,
     /// Tells programs apart (a clone keeps it: its constants are the same), so that a run finds
     /// its constants still in place when the thread's last run was of the same program.
@@ -471,12 +473,13 @@ pub struct Compiled {
 }
 
 impl Compiled {
-    /// Traces `model`'s derivatives. A model of dimension 0 or above [`MAX_DIMENSION`] gets no
-    /// programs (the simulation refuses it anyway).
+    /// Traces `model`'s derivatives. A model of dimension 0 or above
+    /// [`MAX_DIMENSION`](crate::MAX_DIMENSION), or not the [`HybridLagrangian::DIMENSION`] its
+    /// type declares, gets no programs (the simulation refuses it anyway).
     pub fn trace<L: HybridLagrangian>(model: &L) -> Compiled {
         let n = model.dimension();
         let count = model.constraints().len();
-        if n == 0 || n > MAX_DIMENSION {
+        if crate::derivatives::checked_dimension(model).is_err() {
             return Compiled {
                 dimension: n,
                 terms: None,
@@ -490,7 +493,7 @@ impl Compiled {
                 constant_mass: false,
             };
         }
-        with_dimension!(n, N => Self::trace_n::<N, L>(model))
+        with_dimension!(L; n, N => Self::trace_n::<N, L>(model))
     }
 
     /// [`Compiled::trace`] for a model of dimension `N` (the tests trace one `N` only).

@@ -26,7 +26,24 @@ pub const MAX_DIMENSION: usize = 20;
 
 /// Runs `$body` with `$N` a `const usize` equal to the runtime dimension `$n`
 /// (1..=[`MAX_DIMENSION`]).
+///
+/// With a model type first (`with_dimension!(L; n, N => …)`), the body is compiled only for the
+/// dimensions `L` may have ([`HybridLagrangian::DIMENSION`]): the arms of the others are
+/// constant-false after monomorphisation, and rustc neither collects nor compiles their code.
 macro_rules! with_dimension {
+    ($L:ty; $n:expr, $N:ident => $body:expr) => {
+        $crate::derivatives::with_dimension!($n, $N => {
+            if $crate::derivatives::Possible::<$L, $N>::DIMENSION {
+                $body
+            } else {
+                unreachable!(
+                    "dimension {} is not the {:?} the model's type declares: setup refuses it",
+                    $N,
+                    <$L as $crate::model::HybridLagrangian>::DIMENSION
+                )
+            }
+        })
+    };
     ($n:expr, $N:ident => $body:expr) => {
         $crate::derivatives::dimension_match!(
             $n, $N, $body, [1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20]
@@ -34,6 +51,36 @@ macro_rules! with_dimension {
     };
 }
 pub(crate) use with_dimension;
+
+/// Whether a model of type `L` may have dimension `N`: a constant for each pair, so that
+/// [`with_dimension!`] compiles only the dimensions `L` declares.
+pub(crate) struct Possible<L, const N: usize>(std::marker::PhantomData<L>);
+
+impl<L: HybridLagrangian, const N: usize> Possible<L, N> {
+    pub(crate) const DIMENSION: bool = match L::DIMENSION {
+        None => true,
+        Some(d) => d == N,
+    };
+}
+
+/// `model`'s dimension, or the error that refuses it: 0, above [`MAX_DIMENSION`], or not the
+/// [`HybridLagrangian::DIMENSION`] its type declares.
+pub(crate) fn checked_dimension<L: HybridLagrangian>(model: &L) -> Result<usize, crate::Error> {
+    let n = model.dimension();
+    if n == 0 || n > MAX_DIMENSION {
+        return Err(crate::Error::Dimension {
+            dimension: n,
+            max: MAX_DIMENSION,
+        });
+    }
+    match L::DIMENSION {
+        Some(declared) if declared != n => Err(crate::Error::DeclaredDimension {
+            declared,
+            dimension: n,
+        }),
+        _ => Ok(n),
+    }
+}
 
 /// The `match` behind [`with_dimension!`]: one arm per listed dimension, each with its own
 /// `const $N`, and `$body` written into every arm.
@@ -472,6 +519,7 @@ mod tests {
     }
 
     impl HybridLagrangian for Coupled {
+        const DIMENSION: Option<usize> = Some(2);
         fn dimension(&self) -> usize {
             2
         }
@@ -629,6 +677,7 @@ mod tests {
     }
 
     impl HybridLagrangian for Branching {
+        const DIMENSION: Option<usize> = Some(1);
         fn dimension(&self) -> usize {
             1
         }

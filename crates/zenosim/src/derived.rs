@@ -1,6 +1,6 @@
 //! Quantities derived from a model at one state: for checks, reports and tests.
 
-use crate::derivatives::{energy, guard_along, MAX_DIMENSION};
+use crate::derivatives::{checked_dimension, energy, guard_along};
 use crate::error::Error;
 use crate::mechanics::Mechanics;
 use crate::model::HybridLagrangian;
@@ -22,15 +22,10 @@ pub struct Derived<'a, L> {
 
 impl<'a, L: HybridLagrangian> Derived<'a, L> {
     /// The derived quantities of `model` (an error if its dimension is 0 or above
-    /// [`MAX_DIMENSION`]).
+    /// [`MAX_DIMENSION`](crate::MAX_DIMENSION), or not the [`HybridLagrangian::DIMENSION`] its
+    /// type declares).
     pub fn new(model: &'a L) -> Result<Self, Error> {
-        let n = model.dimension();
-        if n == 0 || n > MAX_DIMENSION {
-            return Err(Error::Dimension {
-                dimension: n,
-                max: MAX_DIMENSION,
-            });
-        }
+        let n = checked_dimension(model)?;
         Ok(Self {
             mech: Mechanics::new(model),
             n,

@@ -15,6 +15,15 @@ pub enum Error {
         /// The largest supported.
         max: usize,
     },
+    /// The model's [`crate::HybridLagrangian::DIMENSION`] is not its
+    /// [`crate::HybridLagrangian::dimension`].
+    #[error("the model's type declares DIMENSION = Some({declared}) but dimension() is {dimension}: make them agree, or declare None")]
+    DeclaredDimension {
+        /// What the type declares.
+        declared: usize,
+        /// What `dimension()` returns.
+        dimension: usize,
+    },
     /// The model has no constraint or too many.
     #[error("the model has {count} constraints; zenosim needs 1 to {max}")]
     ConstraintCount {

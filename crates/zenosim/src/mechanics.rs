@@ -160,7 +160,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         active: Option<usize>,
         q_ddot: &mut [f64],
     ) -> Result<f64, DynamicsError> {
-        with_dimension!(self.n, N => self.acceleration_n::<N>(q, q_dot, active, q_ddot))
+        with_dimension!(L; self.n, N => self.acceleration_n::<N>(q, q_dot, active, q_ddot))
     }
 
     fn acceleration_n<const N: usize>(
@@ -205,7 +205,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         q_dot: &[f64],
         w: &mut [f64],
     ) -> Result<Normal, DynamicsError> {
-        with_dimension!(self.n, N => {
+        with_dimension!(L; self.n, N => {
             let motion = constrained_motion::<N, L>(self.model, index, q, q_dot);
             let d = &motion.direction;
             check_direction(d, index)?;
@@ -236,7 +236,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         q: &[f64],
         q_dot: &mut [f64],
     ) -> Result<(), DynamicsError> {
-        with_dimension!(self.n, N => {
+        with_dimension!(L; self.n, N => {
             let d = direction::<N, L>(self.model, index, q, q_dot);
             check_direction(&d, index)?;
             let scale = (1.0 + e) * d.a_q_dot / d.s;
@@ -256,7 +256,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         q: &mut [f64],
         q_dot: &mut [f64],
     ) -> Result<Residuals, DynamicsError> {
-        with_dimension!(self.n, N => self.project_n::<N>(index, q, q_dot))
+        with_dimension!(L; self.n, N => self.project_n::<N>(index, q, q_dot))
     }
 
     fn project_n<const N: usize>(
@@ -320,7 +320,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         q_dot: &[f64],
         out: &mut [f64],
     ) -> Result<(), DynamicsError> {
-        with_dimension!(self.n, N => {
+        with_dimension!(L; self.n, N => {
             let m = mass_matrix::<N, L>(self.model, q, q_dot);
             out[..N * N].copy_from_slice(m.as_slice());
             Ok(check_pivots(&pivots(&m))?)
@@ -329,7 +329,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
 
     /// `A = ∂h/∂q` of constraint `index` into `out`; returns `h`.
     pub fn constraint_gradient(&self, index: usize, q: &[f64], out: &mut [f64]) -> f64 {
-        with_dimension!(self.n, N => {
+        with_dimension!(L; self.n, N => {
             let c = constraint_terms::<N, L>(self.model, index, q);
             out[..N].copy_from_slice(c.gradient.as_slice());
             c.h

@@ -44,6 +44,15 @@ impl Constraint {
 /// constrained dynamics, the energy) is derived from these two functions by automatic
 /// differentiation.
 pub trait HybridLagrangian {
+    /// The number of coordinates when the type fixes it; `None` (the default) when only
+    /// [`Self::dimension`] knows it. [`Self::dimension`] must then return it (a simulation
+    /// refuses a model whose two disagree).
+    ///
+    /// zenosim compiles its mechanics once for every dimension a model type may have: up to
+    /// [`crate::MAX_DIMENSION`] times, or once where this says which. Set it on a model of
+    /// fixed size to build faster.
+    const DIMENSION: Option<usize> = None;
+
     /// The number of coordinates `n = dim Q` (at most [`crate::MAX_DIMENSION`]).
     fn dimension(&self) -> usize;
 

@@ -1,6 +1,6 @@
 //! Setting up a run: the model, the initial state and the options, checked before anything runs.
 
-use crate::derivatives::MAX_DIMENSION;
+use crate::derivatives::checked_dimension;
 use crate::derived::Derived;
 use crate::error::Error;
 use crate::execution::{ActiveSet, Execution};
@@ -36,13 +36,7 @@ impl<'a, L: HybridLagrangian> Simulation<'a, L> {
         options: SimulationOptions,
     ) -> Result<Self, Error> {
         options.validate()?;
-        let n = model.dimension();
-        if n == 0 || n > MAX_DIMENSION {
-            return Err(Error::Dimension {
-                dimension: n,
-                max: MAX_DIMENSION,
-            });
-        }
+        let n = checked_dimension(model)?;
         let constraints = model.constraints();
         if constraints.is_empty() || constraints.len() > ActiveSet::CAPACITY {
             return Err(Error::ConstraintCount {

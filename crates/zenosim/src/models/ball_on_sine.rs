@@ -47,6 +47,7 @@ impl BallOnSine {
 }
 
 impl HybridLagrangian for BallOnSine {
+    const DIMENSION: Option<usize> = Some(3);
     fn dimension(&self) -> usize {
         3
     }

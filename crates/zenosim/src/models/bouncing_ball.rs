@@ -39,6 +39,7 @@ impl BouncingBall {
 }
 
 impl HybridLagrangian for BouncingBall {
+    const DIMENSION: Option<usize> = Some(1);
     fn dimension(&self) -> usize {
         1
     }

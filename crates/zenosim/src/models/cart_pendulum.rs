@@ -52,6 +52,7 @@ impl CartPendulum {
 }
 
 impl HybridLagrangian for CartPendulum {
+    const DIMENSION: Option<usize> = Some(2);
     fn dimension(&self) -> usize {
         2
     }

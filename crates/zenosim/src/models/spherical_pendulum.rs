@@ -47,6 +47,7 @@ impl SphericalPendulum {
 }
 
 impl HybridLagrangian for SphericalPendulum {
+    const DIMENSION: Option<usize> = Some(2);
     fn dimension(&self) -> usize {
         2
     }

@@ -355,6 +355,64 @@ fn a_non_finite_initial_state_is_refused() {
     }
 }
 
+/// A [`Toy`] whose type declares two coordinates, whatever it has.
+struct DeclaresTwo(Toy);
+
+impl HybridLagrangian for DeclaresTwo {
+    const DIMENSION: Option<usize> = Some(2);
+
+    fn dimension(&self) -> usize {
+        self.0.dimension()
+    }
+
+    fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
+        self.0.lagrangian(q, v)
+    }
+
+    fn constraints(&self) -> &[Constraint] {
+        self.0.constraints()
+    }
+
+    fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D {
+        self.0.constraint(index, q)
+    }
+}
+
+#[test]
+fn a_declared_dimension_must_be_the_model_s() {
+    // The mechanics of `DeclaresTwo` are compiled for two coordinates only: three are refused
+    // at setup, never run into code that was not compiled.
+    let model = DeclaresTwo(Toy::new(Twist::Plain, 3, &["floor"], 0.5));
+    let q = [1.0; 3];
+    let err = refused(&model, &q, &q, options(1.0));
+    assert_eq!(
+        err,
+        Error::DeclaredDimension {
+            declared: 2,
+            dimension: 3
+        }
+    );
+    assert_says(
+        &err,
+        &["DIMENSION = Some(2)", "dimension() is 3", "make them agree"],
+    );
+    assert!(matches!(
+        Derived::new(&model),
+        Err(Error::DeclaredDimension {
+            declared: 2,
+            dimension: 3
+        })
+    ));
+    assert_eq!(zenosim::Compiled::trace(&model).coverage().0, 0);
+    // Two: a free fall onto the floor q1 = 0 and on, past its Zeno point.
+    let model = DeclaresTwo(Toy::new(Twist::Plain, 2, &["floor"], 0.5));
+    let compiled = zenosim::Compiled::trace(&model);
+    assert_eq!(compiled.coverage().0, compiled.coverage().1);
+    let sim = Simulation::new(&model, &[1.0, 0.0], &[-1.0, 0.5], options(3.0)).unwrap();
+    let run = sim.run(&mut ());
+    assert!(run.stats.impacts >= 1, "{:?}", run.outcome);
+}
+
 #[test]
 fn dimensions_outside_one_to_max_dimension_are_refused() {
     let max = zenosim::MAX_DIMENSION;

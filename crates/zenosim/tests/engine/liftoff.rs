@@ -16,6 +16,7 @@ struct ParticleOnCircle {
 }
 
 impl HybridLagrangian for ParticleOnCircle {
+    const DIMENSION: Option<usize> = Some(2);
     fn dimension(&self) -> usize {
         2
     }

@@ -28,6 +28,7 @@ impl Box2d {
 }
 
 impl HybridLagrangian for Box2d {
+    const DIMENSION: Option<usize> = Some(2);
     fn dimension(&self) -> usize {
         2
     }

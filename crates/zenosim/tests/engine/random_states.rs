@@ -35,6 +35,7 @@ impl OutsideACircle {
 }
 
 impl HybridLagrangian for OutsideACircle {
+    const DIMENSION: Option<usize> = Some(2);
     fn dimension(&self) -> usize {
         2
     }

@@ -12,6 +12,7 @@ struct BesideAWall {
 }
 
 impl HybridLagrangian for BesideAWall {
+    const DIMENSION: Option<usize> = Some(2);
     fn dimension(&self) -> usize {
         2
     }
@@ -155,6 +156,7 @@ impl RotatedWall {
 }
 
 impl HybridLagrangian for RotatedWall {
+    const DIMENSION: Option<usize> = Some(2);
     fn dimension(&self) -> usize {
         2
     }
@@ -223,6 +225,7 @@ fn a_coordinate_with_a_tiny_weight_in_h_does_not_loosen_admissibility() {
         constraints: [Constraint; 1],
     }
     impl HybridLagrangian for Tilted {
+        const DIMENSION: Option<usize> = Some(2);
         fn dimension(&self) -> usize {
             2
         }
