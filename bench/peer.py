@@ -839,7 +839,7 @@ def pareto(points):
     return front
 
 
-def retime(model, y0, t_end, zen, scipy_points, args):
+def retime(name, model, y0, t_end, zen, scipy_points, args):
     """The `RETIME` cheapest scipy configurations that reach zenosim's error, by the grid's
     times, timed again one after the other: the grid's times were taken minutes apart, while
     the machine's speed drifts, so its cheapest is not always the cheapest. Their new medians,
@@ -849,6 +849,8 @@ def retime(model, y0, t_end, zen, scipy_points, args):
     reach = sorted((p for p in scipy_points
                     if p["status"] == "ok" and p["error"] <= zen["error"]),
                    key=lambda p: p["wall_time_s"]["median"])[:RETIME]
+    if reach:
+        log(f"== {name}: the {len(reach)} cheapest matches, timed again one after the other")
     out = {}
     for p in reach:
         _, wall, failure = timed(model, y0, t_end, p["method"], p["tolerance"], p["epsilon"],
@@ -1262,9 +1264,7 @@ def main(argv):
             all_points += refined
 
         front = pareto(sp_points)
-        if zen_head is not None and args.refine > 0:
-            log(f"== {name}: the cheapest matches, timed again one after the other")
-        retimed = (retime(model, y0, t_end, zen_head, sp_points, args)
+        retimed = (retime(name, model, y0, t_end, zen_head, sp_points, args)
                    if args.refine > 0 else {})
         match = matched(zen_head, sp_points, retimed)
         if match is not None and has_bench and args.pairs > 0:
