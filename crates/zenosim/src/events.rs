@@ -76,7 +76,7 @@ pub fn first_crossing(
         };
         let cur = g(t);
         if cur.0 <= 0.0 || cur.0.is_nan() {
-            return Some(bracket(prev_t, prev, t, cur, &mut g));
+            return Some(first_in(prev_t, prev, t, cur, &mut g, &mut budget));
         }
         if let Some(crossing) = between(prev_t, prev, t, cur, &mut g, &mut budget) {
             return Some(crossing);
@@ -124,31 +124,108 @@ fn between(
     let m = a + 0.5 * width;
     let gm = g(m);
     if gm.0 <= 0.0 || gm.0.is_nan() {
-        return Some(bracket(a, ga, m, gm, g));
+        return Some(first_in(a, ga, m, gm, g, budget));
     }
-    // H(s) on s ∈ [0, 1]: values g_a, g_b, slopes da·width, db·width.
-    let (p0, p1, m0, m1) = (ga.0, gb.0, da * width, db * width);
-    let cubic = |s: f64| hermite(p0, p1, m0, m1, s).0;
-    let misfit = (gm.0 - cubic(0.5)).abs();
-    // The error profile 16 misfit s²(1−s)², twice over; sampled finely (H is a cubic), and at
-    // H's interior minimum, where a near miss would be (unless it is closer to an end than time
-    // resolves: a start on the surface whose `ġ` rounds to −1e-17).
-    let clear = |s: f64| cubic(s) - 32.0 * misfit * (s * (1.0 - s)).powi(2) > 0.0;
-    let minimum = cubic_minimum(p0, p1, m0, m1);
-    // At once where H's least value on [0, 1] (at an end or at its one interior minimum)
-    // exceeds the profile's largest, 2 misfit at s = ½: then every sample below is clear too.
-    // (Each compared on its own: a NaN anywhere fails the test.)
-    let profile = 2.0 * misfit;
-    if p0 > profile && p1 > profile && minimum.is_none_or(|s| cubic(s) > profile) {
-        return None;
-    }
-    let resolution = time_resolution(b) / width;
-    let minimum = minimum.filter(|s| s.min(1.0 - s) > resolution);
-    let samples = (1..32).map(|k| f64::from(k) / 32.0);
-    if samples.chain(minimum).all(clear) {
+    let fit = Fit::new(ga.0, gb.0, da * width, db * width, gm.0);
+    if fit.clear_up_to(1.0, time_resolution(b) / width) {
         return None;
     }
     between(a, ga, m, gm, g, budget).or_else(|| between(m, gm, b, gb, g, budget))
+}
+
+/// The first crossing in `(a, b]`, where `g(a) > 0 ≥ g(b)` (or `a` is the step's start,
+/// admissible).
+///
+/// The sign change brackets a crossing, but not always the first: over a crest, `g` may dip
+/// below 0 and come back before it falls for good, and [`bracket`] may close on either. The
+/// midpoint tells: where the cubic through the ends' values and slopes, with the error profile
+/// its misfit there measures (see [`between`]), shows the first half clear of 0, the crossing
+/// is bracketed in the second; elsewhere the first half is searched, then the second. Without
+/// slopes, from a start on the surface, or out of `budget`, it brackets `(a, b]` at once.
+fn first_in(
+    a: f64,
+    ga: (f64, Option<f64>),
+    b: f64,
+    gb: (f64, Option<f64>),
+    g: &mut impl FnMut(f64) -> (f64, Option<f64>),
+    budget: &mut usize,
+) -> Crossing {
+    let width = b - a;
+    let (Some(da), Some(db)) = (ga.1, gb.1) else {
+        return bracket(a, ga, b, gb, g);
+    };
+    // As in `between`: near a start on the surface the guard is rounding noise.
+    let on_surface = ga.0 <= 1e-9 * (ga.0 - gb.0 + width * db.abs());
+    if on_surface || *budget == 0 || width <= time_resolution(b) {
+        return bracket(a, ga, b, gb, g);
+    }
+    *budget -= 1;
+    let m = a + 0.5 * width;
+    let gm = g(m);
+    if gm.0 <= 0.0 || gm.0.is_nan() {
+        return first_in(a, ga, m, gm, g, budget);
+    }
+    let fit = Fit::new(ga.0, gb.0, da * width, db * width, gm.0);
+    if fit.clear_up_to(0.5, time_resolution(b) / width) {
+        return bracket(m, gm, b, gb, g);
+    }
+    match between(a, ga, m, gm, g, budget) {
+        Some(crossing) => crossing,
+        None => first_in(m, gm, b, gb, g, budget),
+    }
+}
+
+/// The cubic Hermite interpolant `H` of `g` on an interval (`s ∈ [0, 1]`) through the values
+/// `p0`, `p1` and slopes `m0`, `m1` (per unit `s`) at its ends, and how far `g` at the midpoint
+/// is from it.
+struct Fit {
+    p0: f64,
+    p1: f64,
+    m0: f64,
+    m1: f64,
+    misfit: f64,
+}
+
+impl Fit {
+    fn new(p0: f64, p1: f64, m0: f64, m1: f64, g_mid: f64) -> Self {
+        let misfit = (g_mid - hermite(p0, p1, m0, m1, 0.5).0).abs();
+        Self {
+            p0,
+            p1,
+            m0,
+            m1,
+            misfit,
+        }
+    }
+
+    /// Whether `g` is clear of 0 on `[0, upto]` (`upto` in `(0, 1]`): `H` matches `g` at both
+    /// ends, and its error grows like `s²(1−s)²` to its largest near the midpoint, where the
+    /// misfit measures it. Clear where `H` minus twice the error profile `16 misfit s²(1−s)²`
+    /// stays positive: sampled finely (`H` is a cubic) and at `H`'s interior minimum, where a
+    /// near miss would be (unless it is within `resolution` of an end: a start on the surface
+    /// whose `ġ` rounds to −1e-17).
+    fn clear_up_to(&self, upto: f64, resolution: f64) -> bool {
+        let Fit {
+            p0,
+            p1,
+            m0,
+            m1,
+            misfit,
+        } = *self;
+        let cubic = |s: f64| hermite(p0, p1, m0, m1, s).0;
+        let clear = |s: f64| cubic(s) - 32.0 * misfit * (s * (1.0 - s)).powi(2) > 0.0;
+        let minimum = cubic_minimum(p0, p1, m0, m1).filter(|&s| s < upto);
+        // At once where H's least value on [0, upto] (at an end or at its one interior minimum)
+        // exceeds the profile's largest, 2 misfit at s = ½: then every sample below is clear
+        // too. (Each compared on its own: a NaN anywhere fails the test.)
+        let profile = 2.0 * misfit;
+        if p0 > profile && cubic(upto) > profile && minimum.is_none_or(|s| cubic(s) > profile) {
+            return true;
+        }
+        let minimum = minimum.filter(|s| s.min(1.0 - s) > resolution);
+        let samples = (1..32).map(|k| upto * f64::from(k) / 32.0);
+        samples.chain(minimum).all(clear)
+    }
 }
 
 /// The cubic Hermite interpolant on `s ∈ [0, 1]` with values `p0`, `p1` and slopes `m0`, `m1`
@@ -461,6 +538,27 @@ mod tests {
         // The first root, 0.0131 by a scan: g is positive on [0, t] before it.
         assert!((c.t_admissible - 0.0131).abs() < 1e-3, "{c:?}");
         assert!((0..1000).all(|k| g(c.t_admissible * f64::from(k) / 1000.0).0 > 0.0));
+    }
+
+    /// `g = −100 (t − 0.53)(t − 0.56)(t − 0.72)` is positive at the samples 0, 0.25 and 0.5 of
+    /// the step [0, 1] and negative at 0.75, but dips below 0 on (0.53, 0.56) before its last
+    /// fall at 0.72: the sign change between 0.5 and 0.75 brackets three roots, and the first
+    /// crossing is the first of them (a flight over a crest that touches the slope beyond it).
+    #[test]
+    fn a_dip_before_the_sign_change_is_the_first_crossing() {
+        let (r1, r2, r3) = (0.53, 0.56, 0.72);
+        let g = |t: f64| {
+            let value = -100.0 * (t - r1) * (t - r2) * (t - r3);
+            let slope = -100.0 * ((t - r2) * (t - r3) + (t - r1) * (t - r3) + (t - r1) * (t - r2));
+            (value, Some(slope))
+        };
+        assert!([0.0, 0.25, 0.5].iter().all(|&t| g(t).0 > 0.0) && g(0.75).0 < 0.0);
+        let c = first_crossing(0.0, 1.0, g).expect("a crossing");
+        assert!(
+            g(c.t_admissible).0 > 0.0 && g(c.t_violating).0 <= 0.0,
+            "{c:?}"
+        );
+        assert!((c.t_admissible - r1).abs() <= 4.0 * f64::EPSILON, "{c:?}");
     }
 
     #[test]
