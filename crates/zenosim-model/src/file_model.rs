@@ -20,6 +20,9 @@ pub struct FileModel {
     pub(crate) resets: Vec<Vec<(usize, Expression)>>,
     /// The derivatives traced into programs ([`Compiled`]), set once the model is checked.
     pub(crate) compiled: Option<Compiled>,
+    /// Whether the compiled free motion is constant ([`HybridLagrangian::parabolic_flight`]): a
+    /// fact of the formulas, kept when the model is [`FileModel::interpreted`].
+    pub(crate) parabolic: bool,
 }
 
 impl FileModel {
@@ -72,6 +75,10 @@ impl HybridLagrangian for FileModel {
 
     fn compiled(&self) -> Option<&Compiled> {
         self.compiled.as_ref()
+    }
+
+    fn parabolic_flight(&self) -> bool {
+        self.parabolic
     }
 
     fn coordinate_names(&self) -> Vec<String> {

@@ -479,6 +479,7 @@ impl<'s> Cx<'s> {
             h: Vec::new(),
             resets: Vec::new(),
             compiled: None,
+            parabolic: false,
         };
         for c in constraints {
             model
@@ -488,7 +489,9 @@ impl<'s> Cx<'s> {
             model.resets.push(c.reset);
         }
         self.check_initial_state(root, &model, &initial)?;
-        model.compiled = Some(Compiled::trace(&model));
+        let compiled = Compiled::trace(&model);
+        model.parabolic = compiled.constant_free_motion();
+        model.compiled = Some(compiled);
 
         Ok(ModelFile {
             name: name.to_string(),

@@ -271,6 +271,7 @@ fn tree_model(t: &str, compile: bool) -> FileModel {
         h: vec![Expression::parse(t, &NAMES).unwrap()],
         resets: vec![Vec::new()],
         compiled: None,
+        parabolic: false,
     };
     if compile {
         model.compiled = Some(zenosim::Compiled::trace(&model));

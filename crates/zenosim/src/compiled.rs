@@ -616,6 +616,14 @@ impl Compiled {
         self.constant_mass
     }
 
+    /// Whether the free motion is traced and the same at every state: a constant `M` and
+    /// constant forces (a point mass under gravity), so that free flight is a parabola in time.
+    pub fn constant_free_motion(&self) -> bool {
+        self.free
+            .as_ref()
+            .is_some_and(|p| p.constant_outputs.is_some())
+    }
+
     /// The number of operations of the free motion's program, if traced.
     #[cfg(test)]
     pub(crate) fn free_operations(&self) -> Option<usize> {

@@ -89,4 +89,21 @@ pub trait HybridLagrangian {
     fn compiled(&self) -> Option<&Compiled> {
         None
     }
+
+    /// Whether free flight is a parabola in time: the free motion's acceleration `M⁻¹ f` is the
+    /// same at every state (a constant `M` and constant forces, such as a point mass in
+    /// Cartesian coordinates under gravity).
+    ///
+    /// zenosim then reads the states inside a free step off the step's cubic Hermite
+    /// interpolant, which is exact on a parabola, instead of preparing the step's dense output
+    /// (three evaluations) and stepping again to each impact (a whole step). It checks at every
+    /// use that the acceleration is the same, to the bit, at both ends of the step, and takes
+    /// the general route where it is not.
+    ///
+    /// Default: what the [`Compiled`] derivatives show (the free motion traced to constants);
+    /// `false` without them. Declare it on a Rust model whose free flight is a parabola so that
+    /// it runs as its model file does.
+    fn parabolic_flight(&self) -> bool {
+        self.compiled().is_some_and(Compiled::constant_free_motion)
+    }
 }

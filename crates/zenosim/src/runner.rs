@@ -31,6 +31,16 @@ const AUTO_ROUND_OFF_ULPS: f64 = 1e4;
 /// are at round-off, the plain hybrid system cannot go on.
 const OFF_ROUND_OFF_ULPS: f64 = 64.0;
 
+/// The last step's state at `t` (inside it), off its cubic interpolant where that is exact
+/// ([`Runner::cubic`]), else off its dense output (prepared: [`Runner::dense`]).
+fn interpolate(stepper: &Stepper, cubic: bool, t: f64, out: &mut [f64]) {
+    if cubic {
+        stepper.interpolate_cubic(t, out);
+    } else {
+        stepper.interpolate(t, out);
+    }
+}
+
 /// The equations of motion of one mode, as the integrator sees them: `y = (q, q̇)`.
 struct Equations<'a, L> {
     mech: Mechanics<'a, L>,
@@ -81,6 +91,13 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     /// The next time on a uniform output grid.
     next_output: f64,
     wants_samples: bool,
+    /// Whether free flight is a parabola ([`HybridLagrangian::parabolic_flight`]).
+    parabolic: bool,
+    /// Whether the last step is a free flight on a parabola (declared, and the acceleration the
+    /// same to the bit at both its ends): states inside it are then read off its cubic Hermite
+    /// interpolant, exact there, instead of its dense output, and the state at an impact
+    /// without stepping to it again.
+    cubic: bool,
     /// The last sample sent, so that a state shared by two events is sent once.
     last_sample: (f64, Mode, Vec<f64>),
     scratch: Vec<f64>,
@@ -124,6 +141,8 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             flight_bound: f64::INFINITY,
             lift_margin_start: 0.0,
             next_output: 0.0,
+            parabolic: sim.model.parabolic_flight(),
+            cubic: false,
             last_sample: (f64::NAN, Mode::Free, vec![f64::NAN; 2 * n]),
             scratch: vec![0.0; 2 * n],
             w: vec![0.0; n],
@@ -177,6 +196,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             let mut eqs = self.equations();
             let stepped = self.stepper.step(&mut eqs, options.t_end, h_max);
             stepped.map_err(|e| self.step_error(e))?;
+            self.cubic = self.parabolic_step();
             let next = match self.mode {
                 Mode::Free => self.after_free_step()?,
                 Mode::Constrained(active) => {
@@ -216,9 +236,20 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         Ok(())
     }
 
+    /// Whether the last step is a free flight on a parabola (see [`Runner::cubic`]).
+    fn parabolic_step(&self) -> bool {
+        let n = self.n;
+        self.parabolic
+            && self.mode == Mode::Free
+            && self.stepper.dy_previous()[n..] == self.stepper.dy()[n..]
+    }
+
     /// Prepares the dense output of the last step (at most once per step; the stepper keeps
-    /// track).
+    /// track), unless its states are read off the cubic interpolant.
     fn dense(&mut self) -> Result<(), Error> {
+        if self.cubic {
+            return Ok(());
+        }
         let mut eqs = self.equations();
         let prepared = self.stepper.prepare_dense(&mut eqs);
         prepared.map_err(|e| self.step_error(e))
@@ -226,6 +257,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
 
     /// Restarts the integrator at `(t, y)` in the current mode.
     fn restart(&mut self, t: f64, y: &[f64], hint: Option<f64>) -> Result<(), Error> {
+        self.cubic = false;
         let mut eqs = self.equations();
         let started = self.stepper.start(&mut eqs, t, y, hint);
         self.t = t;
@@ -243,7 +275,15 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         };
         self.emit_grid_before(t_event)?;
         let hint = self.stepper.suggested_step();
-        let before = self.state_at(t_event)?;
+        let before = if self.cubic {
+            // The step and its interpolant are both exact on a parabola (up to rounding): the
+            // interpolant gives the step's state without stepping again.
+            let mut y = vec![0.0; 2 * self.n];
+            self.stepper.interpolate_cubic(t_event, &mut y);
+            y
+        } else {
+            self.state_at(t_event)?
+        };
         let (t_event, before) = self.admissible_side(index, t_event, before)?;
         self.crossing(index, t_event, before, hint)
     }
@@ -341,9 +381,10 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         }
     }
 
-    /// The event state on the admissible side: the refined state of [`Self::state_at`] may be
-    /// a little past the surface (the root was found on the interpolant); Newton steps in time
-    /// on the refining step's dense output bring it back to `h ≥ 0` (REFERENCE §4).
+    /// The event state on the admissible side: the state at the root may be a little past the
+    /// surface (the root was found on the interpolant, and the state may come from a refining
+    /// step); Newton steps in time on the last step's dense output bring it back to `h ≥ 0`
+    /// (REFERENCE §4).
     fn admissible_side(
         &mut self,
         index: usize,
@@ -352,10 +393,12 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
     ) -> Result<(f64, Vec<f64>), Error> {
         let n = self.n;
         let (h, _, _) = guard_along(self.sim.model, index, &y[..n], &y[n..]);
-        if h >= 0.0 || self.stepper.t() != t {
+        let in_last_step = self.stepper.t_previous() < t && t <= self.stepper.t();
+        if h >= 0.0 || !in_last_step {
             return Ok((t, y));
         }
         self.dense()?;
+        let cubic = self.cubic;
         let mut t_new = t;
         for _ in 0..8 {
             let (h, h_dot, _) = guard_along(self.sim.model, index, &y[..n], &y[n..]);
@@ -365,7 +408,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             // h + ḣ δ = 0, δ = −h/ḣ < 0, with a margin so that the next try lands on h ≥ 0.
             let back = (h / h_dot) * 1.001 + f64::EPSILON * t_new.abs();
             t_new = (t_new - back).max(self.stepper.t_previous());
-            self.stepper.interpolate(t_new, &mut y);
+            interpolate(&self.stepper, cubic, t_new, &mut y);
         }
         Ok((t_new, y))
     }
@@ -379,6 +422,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         if t <= t0 {
             return Ok(self.stepper.y_previous().to_vec());
         }
+        self.cubic = false;
         let mut eqs = self.equations();
         let h = t - t0;
         self.stepper.rewind(h);
@@ -402,6 +446,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             return Ok(None);
         }
         self.dense()?;
+        let cubic = self.cubic;
         let constrained = !matches!(self.mode, Mode::Free);
         let mut found: Option<(usize, f64)> = None;
         for index in (0..m).filter(|&i| Some(i) != skip) {
@@ -409,7 +454,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             let mut y = std::mem::take(&mut self.scratch);
             let active = skip;
             let crossing = first_crossing(t0, t1, |t| {
-                stepper.interpolate(t, &mut y);
+                interpolate(stepper, cubic, t, &mut y);
                 if let (true, Some(a)) = (constrained, active) {
                     let (q, q_dot) = y.split_at_mut(n);
                     // Best effort: a failed projection just leaves the sample as it is.
@@ -844,7 +889,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let mut y = vec![0.0; 2 * self.n];
         while self.next_output < t || (inclusive && self.next_output == t) {
             let to = self.next_output;
-            self.stepper.interpolate(to, &mut y);
+            interpolate(&self.stepper, self.cubic, to, &mut y);
             if let Mode::Constrained(active) = self.mode {
                 let index = active.only().expect("one active constraint");
                 let (q, q_dot) = y.split_at_mut(self.n);

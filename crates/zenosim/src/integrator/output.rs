@@ -104,6 +104,47 @@ impl Stepper {
         Ok(())
     }
 
+    /// The cubic Hermite interpolant of the last accepted step at `t`, into `out`: through the
+    /// states and derivatives at the step's two ends, with no evaluation and no
+    /// [`prepare_dense`](Stepper::prepare_dense).
+    ///
+    /// Exact (up to rounding) where the solution is a polynomial of degree at most 3 in `t`,
+    /// such as `y = (q, q̇)` under a constant `q̈`; elsewhere of order 3 only. It reproduces
+    /// `y_previous()` and `y()` exactly at the ends. After a (re)start the step has length zero
+    /// and `out` is set to `y()`.
+    ///
+    /// # Panics
+    /// After [`replace_state`](Stepper::replace_state) (the derivative at the step's end is
+    /// gone), or, in debug builds, if `out.len()` is not the dimension.
+    pub fn interpolate_cubic(&self, t: f64, out: &mut [f64]) {
+        assert!(
+            !self.end_replaced,
+            "Stepper::interpolate_cubic: the step's end state was replaced"
+        );
+        debug_assert_eq!(out.len(), self.y.len());
+        let width = self.t - self.t_prev;
+        if width == 0.0 {
+            out.copy_from_slice(&self.y);
+            return;
+        }
+        let s = (t - self.t_prev) / width;
+        let s1 = 1.0 - s;
+        // p(s) = y0 + s Δ + s(1−s) [(1−s)(h f0 − Δ) + s(Δ − h f1)], Δ = y1 − y0, written from
+        // the nearer end (as the dense output is), so that a component that does not move
+        // stays exactly what it is.
+        let (near_start, cd) = (s <= 0.5, if s <= 0.5 { s } else { -s1 });
+        let h = self.h_last;
+        let ss1 = s * s1;
+        let ends = self.y_prev.iter().zip(&self.y);
+        let slopes = self.dy_prev.iter().zip(&self.dy);
+        for ((o, (&y0, &y1)), (&f0, &f1)) in out.iter_mut().zip(ends).zip(slopes) {
+            let diff = y1 - y0;
+            let bend = s1 * (h * f0 - diff) + s * (diff - h * f1);
+            let base = if near_start { y0 } else { y1 };
+            *o = base + cd * diff + ss1 * bend;
+        }
+    }
+
     /// Evaluate the continuous extension of the last accepted step at `t` into `out`.
     ///
     /// Meant for `t` in `[t_previous(), t()]`, where it is of order 7 (DOP853)

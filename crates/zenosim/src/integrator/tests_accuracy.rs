@@ -173,6 +173,65 @@ fn dense_output_is_exact_at_both_ends_and_close_inside() {
 }
 
 #[test]
+fn the_cubic_interpolant_is_exact_on_cubics_and_at_the_ends() {
+    // y1' = 2t, y2' = 3t^2 from (0, 0): (t^2, t^3), which the Hermite cubic through a step's
+    // ends reproduces (up to rounding), without the dense output's evaluations.
+    for method in METHODS {
+        let mut st = Stepper::new(method, 2, Tolerances::default());
+        st.start(&mut Polynomial, 0.0, &[0.0, 0.0], Some(0.1))
+            .unwrap();
+        let mut out = [0.0; 2];
+        let t_end = 3.0;
+        while st.t() < t_end {
+            st.step(&mut Polynomial, t_end, 0.7).unwrap();
+            let (t0, t) = (st.t_previous(), st.t());
+            st.interpolate_cubic(t0, &mut out);
+            assert_eq!(out, st.y_previous(), "{method:?}: the step's start");
+            st.interpolate_cubic(t, &mut out);
+            assert_eq!(out, st.y(), "{method:?}: the step's end");
+            for frac in [0.1, 0.5, 0.9] {
+                let s = t0 + frac * (t - t0);
+                st.interpolate_cubic(s, &mut out);
+                let err = max_diff(&out, &[s * s, s * s * s]);
+                assert!(
+                    err <= 1e-14 * s.powi(3).max(1.0),
+                    "{method:?} at {s}: {err:e}"
+                );
+            }
+        }
+    }
+    // A state that does not move stays exactly what it is (y' = 0).
+    let mut still = Linear::new(0.0);
+    let mut st = Stepper::new(Method::Dop853, 1, Tolerances::default());
+    st.start(&mut still, 0.0, &[0.3], Some(1.0)).unwrap();
+    st.step(&mut still, 1.0, f64::INFINITY).unwrap();
+    assert_eq!(st.t(), 1.0);
+    let mut out = [0.0];
+    for s in [0.1, 0.5, 0.7, 0.999] {
+        st.interpolate_cubic(s, &mut out);
+        assert_eq!(out[0], 0.3, "at {s}");
+    }
+    // Elsewhere it is of order 3 only: y' = y over one step of 0.5 from 1, at its middle,
+    // is off by about h^4 y/384 (the cubic's remainder), far more than the step's error.
+    let mut growth = Linear::new(1.0);
+    let loose = Tolerances {
+        rtol: 1e-3,
+        atol: 1e-3,
+    };
+    let mut st = Stepper::new(Method::Dop853, 1, loose);
+    st.start(&mut growth, 0.0, &[1.0], Some(0.5)).unwrap();
+    st.step(&mut growth, 0.5, 0.5).unwrap();
+    assert_eq!(st.t(), 0.5);
+    st.interpolate_cubic(0.25, &mut out);
+    let err = (out[0] - 0.25f64.exp()).abs();
+    let remainder = 0.5f64.powi(4) / 384.0 * 0.25f64.exp();
+    assert!(
+        err > 0.5 * remainder && err < 2.0 * remainder,
+        "cubic error {err:e}, remainder {remainder:e}"
+    );
+}
+
+#[test]
 fn polynomial_solutions_are_exact_including_dense_output() {
     // y1' = 2t, y2' = 3t^2 from (0, 0): (t^2, t^3) exactly.
     for method in METHODS {

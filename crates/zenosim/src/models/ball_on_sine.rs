@@ -71,6 +71,11 @@ impl HybridLagrangian for BallOnSine {
         vec!["x1".into(), "x2".into(), "x3".into()]
     }
 
+    /// Constant gravity on a point mass.
+    fn parabolic_flight(&self) -> bool {
+        true
+    }
+
     /// The paper's map: `(x1, x2, sin x2, ẋ1, ẋ2, cos(x2) ẋ2)`.
     fn completion_map(&self, _index: usize, q: &mut [f64], q_dot: &mut [f64]) -> bool {
         q[2] = q[1].sin();

@@ -61,4 +61,9 @@ impl HybridLagrangian for BouncingBall {
     fn coordinate_names(&self) -> Vec<String> {
         vec!["x".into()]
     }
+
+    /// Constant gravity on a point mass.
+    fn parabolic_flight(&self) -> bool {
+        true
+    }
 }

@@ -246,3 +246,81 @@ fn the_authors_demo_with_e_0_9_runs_to_its_stop_time() {
     assert!((run.zeno[0].ratio.unwrap() - 0.9).abs() < 1e-4);
     assert!((run.final_state.q[0] - 0.5 * ex.t_end).abs() < 1e-9);
 }
+
+/// The paper's ball without declaring that its free flight is a parabola: zenosim then prepares
+/// each free step's dense output and steps again to each impact.
+struct Undeclared(BallOnSine);
+
+impl zenosim::HybridLagrangian for Undeclared {
+    const DIMENSION: Option<usize> = Some(3);
+    fn dimension(&self) -> usize {
+        self.0.dimension()
+    }
+    fn lagrangian<D: zenosim::Scalar>(&self, q: &[D], q_dot: &[D]) -> D {
+        self.0.lagrangian(q, q_dot)
+    }
+    fn constraints(&self) -> &[zenosim::Constraint] {
+        self.0.constraints()
+    }
+    fn constraint<D: zenosim::Scalar>(&self, index: usize, q: &[D]) -> D {
+        self.0.constraint(index, q)
+    }
+}
+
+/// Reading the states inside a free step off its cubic interpolant, which is exact on a
+/// parabola, gives the execution of the general route (dense output, a fresh step to each
+/// impact) to within the integration's accuracy, with a fifth fewer evaluations.
+#[test]
+fn a_parabolic_flight_runs_as_the_general_route_with_fewer_evaluations() {
+    use zenosim::HybridLagrangian;
+    let ex = BallOnSine::paper();
+    assert!(ex.model.parabolic_flight());
+    let undeclared = Undeclared(ex.model.clone());
+    assert!(!undeclared.parabolic_flight());
+    let options = paper_options();
+    let fast = Simulation::new(&ex.model, &ex.q0, &ex.q_dot0, options)
+        .unwrap()
+        .run(&mut ());
+    let general = Simulation::new(&undeclared, &ex.q0, &ex.q_dot0, options)
+        .unwrap()
+        .run(&mut ());
+    assert_eq!(fast.outcome, Outcome::Finished);
+    assert_eq!(general.outcome, Outcome::Finished);
+    // The bounces the integration resolves (the last ones before the switch are at the
+    // guard's rounding, where any two computations part).
+    let (a, b) = (fast.impact_times(0), general.impact_times(0));
+    assert!(a.len() > 20 && b.len() > 20, "{} and {}", a.len(), b.len());
+    for (k, (x, y)) in a.iter().zip(&b).take(15).enumerate() {
+        assert!((x - y).abs() <= 1e-12, "impact {k}: {x} and {y}");
+    }
+    let (za, zb) = (&fast.zeno[0], &general.zeno[0]);
+    assert!(
+        (za.t_zeno - zb.t_zeno).abs() <= 1e-9,
+        "τ∞ {} and {}",
+        za.t_zeno,
+        zb.t_zeno
+    );
+    // The state at t = 6 within the tolerance (1e-10) of each other.
+    let gap = fast
+        .final_state
+        .q
+        .iter()
+        .chain(&fast.final_state.q_dot)
+        .zip(
+            general
+                .final_state
+                .q
+                .iter()
+                .chain(&general.final_state.q_dot),
+        )
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    assert!(gap <= 1e-10, "final states differ by {gap:e}");
+    let (fewer, more) = (fast.stats.rhs_evals, general.stats.rhs_evals);
+    println!(
+        "parabolic flight: τ∞ {} and {}, final states {gap:e} apart, {fewer} and {more} \
+         evaluations",
+        za.t_zeno, zb.t_zeno
+    );
+    assert!(5 * fewer <= 4 * more, "{fewer} and {more} evaluations");
+}
