@@ -11,7 +11,7 @@ use crate::derivatives::{constraint_terms, mass_matrix, with_dimension};
 use crate::model::HybridLagrangian;
 use crate::motion::{
     check_pivots, constrained_motion, degenerate, direction, dot, free_motion, held_acceleration,
-    pivots, Direction, PivotError,
+    pivots, ConstrainedMotion, Direction, PivotError,
 };
 use nalgebra::SVector;
 
@@ -71,6 +71,33 @@ fn check_direction<const N: usize>(d: &Direction<N>, index: usize) -> Result<(),
     let (gradient, w) = (d.gradient.as_slice(), d.w.as_slice());
     let (gradient_norm2, w_norm2) = (dot(gradient, gradient), dot(w, w));
     check_acting(&d.pivots, d.s, gradient_norm2, w_norm2, index)
+}
+
+/// The normal response from the motion held on the constraint at `(q, q̇)`.
+fn normal_of<const N: usize>(
+    motion: &ConstrainedMotion<N>,
+    q_dot: &[f64],
+) -> Result<Normal, DynamicsError> {
+    const ROUND_OFF: f64 = 64.0 * f64::EPSILON;
+    let d = &motion.direction;
+    let speed = norm(&q_dot[..N]);
+    let gradient_norm = norm(d.gradient.as_slice());
+    let curvature = norm(motion.hessian_q_dot.as_slice());
+    let normal = Normal {
+        a_q_dot: d.a_q_dot,
+        h_ddot_free: motion.h_ddot_free,
+        s: d.s,
+        gradient_norm,
+        curvature: if speed > 0.0 { curvature / speed } else { 0.0 },
+        a_q_dot_round_off: ROUND_OFF * gradient_norm * speed,
+        h_ddot_round_off: ROUND_OFF
+            * (gradient_norm * norm(motion.acc_free.as_slice()) + motion.a_dot_q_dot.abs()),
+    };
+    if normal.h_ddot_free.is_finite() {
+        Ok(normal)
+    } else {
+        Err(DynamicsError::NonFinite)
+    }
 }
 
 /// `|x|`, summed as [`dot`] sums (over slices: nalgebra's unrolled `norm` was compiled once per
@@ -207,24 +234,31 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
     ) -> Result<Normal, DynamicsError> {
         with_dimension!(L; self.n, N => {
             let motion = constrained_motion::<N, L>(self.model, index, q, q_dot);
-            let d = &motion.direction;
-            check_direction(d, index)?;
-            w[..N].copy_from_slice(d.w.as_slice());
-            let speed = norm(&q_dot[..N]);
-            let gradient_norm = norm(d.gradient.as_slice());
-            const ROUND_OFF: f64 = 64.0 * f64::EPSILON;
-            let curvature = norm(motion.hessian_q_dot.as_slice());
-            let normal = Normal {
-                a_q_dot: d.a_q_dot,
-                h_ddot_free: motion.h_ddot_free,
-                s: d.s,
-                gradient_norm,
-                curvature: if speed > 0.0 { curvature / speed } else { 0.0 },
-                a_q_dot_round_off: ROUND_OFF * gradient_norm * speed,
-                h_ddot_round_off: ROUND_OFF
-                    * (gradient_norm * norm(motion.acc_free.as_slice()) + motion.a_dot_q_dot.abs()),
-            };
-            if normal.h_ddot_free.is_finite() { Ok(normal) } else { Err(DynamicsError::NonFinite) }
+            check_direction(&motion.direction, index)?;
+            w[..N].copy_from_slice(motion.direction.w.as_slice());
+            normal_of(&motion, q_dot)
+        })
+    }
+
+    /// `q̈` of the motion held on constraint `index` into `q_ddot`, as
+    /// [`Mechanics::acceleration`] gives it (to the bit), and the constraint's normal response
+    /// at `(q, q̇)`, as [`Mechanics::normal`] gives it: both from one evaluation of the motion.
+    pub fn held_acceleration_and_normal(
+        &self,
+        index: usize,
+        q: &[f64],
+        q_dot: &[f64],
+        q_ddot: &mut [f64],
+    ) -> Result<Normal, DynamicsError> {
+        with_dimension!(L; self.n, N => {
+            let motion = constrained_motion::<N, L>(self.model, index, q, q_dot);
+            check_direction(&motion.direction, index)?;
+            let (acc, lambda) = (motion.acc.as_slice(), motion.lambda);
+            if !acc.iter().all(|x| x.is_finite()) || !lambda.is_finite() {
+                return Err(DynamicsError::NonFinite);
+            }
+            q_ddot[..N].copy_from_slice(acc);
+            normal_of(&motion, q_dot)
         })
     }
 

@@ -46,6 +46,9 @@ struct Equations<'a, L> {
     mech: Mechanics<'a, L>,
     active: Option<usize>,
     n: usize,
+    /// The active constraint's normal response at the end of the last trial step, and its
+    /// time: after an accepted step, at the step's end ([`OdeSystem::rhs_at_end`]).
+    end: Option<(f64, Normal)>,
 }
 
 impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
@@ -61,6 +64,22 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
         self.mech
             .acceleration(q, q_dot, self.active, &mut dy[self.n..])
             .map(|_| ())
+    }
+
+    /// On a constraint, the acceleration and the normal response from one evaluation of the
+    /// motion: the lift-off test after the step needs the response at its end.
+    fn rhs_at_end(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
+        self.end = None;
+        let Some(index) = self.active else {
+            return self.rhs(t, y, dy);
+        };
+        let (q, q_dot) = y.split_at(self.n);
+        dy[..self.n].copy_from_slice(q_dot);
+        let normal = self
+            .mech
+            .held_acceleration_and_normal(index, q, q_dot, &mut dy[self.n..])?;
+        self.end = Some((t, normal));
+        Ok(())
     }
 }
 
@@ -201,7 +220,8 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 Mode::Free => self.after_free_step()?,
                 Mode::Constrained(active) => {
                     let index = active.only().expect("one active constraint at a time");
-                    self.after_constrained_step(index)?
+                    let end = eqs.end.filter(|&(t, _)| t == self.stepper.t());
+                    self.after_constrained_step(index, end.map(|(_, normal)| normal))?
                 }
             };
             if let Next::Stop(outcome) = next {
@@ -219,6 +239,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 Mode::Constrained(active) => active.only(),
             },
             n: self.n,
+            end: None,
         }
     }
 
@@ -718,7 +739,9 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
 
     // ----- constrained motion ------------------------------------------------------------
 
-    fn after_constrained_step(&mut self, index: usize) -> Result<Next, Error> {
+    /// After a step on constraint `index`, whose normal response at the step's end is `end`
+    /// when the step computed it.
+    fn after_constrained_step(&mut self, index: usize, end: Option<Normal>) -> Result<Next, Error> {
         let (t0, t1) = (self.stepper.t_previous(), self.stepper.t());
         let n = self.n;
         // Another constraint reached while this one is active: a simultaneous contact.
@@ -730,8 +753,13 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         // flight is admissible. λ is sampled on the dense output as it is (within the tolerance
         // of the constraint); inside the step only when its ends do not rule a crossing out.
         let margin_start = self.lift_margin_start;
-        let end = self.stepper.y().to_vec();
-        let margin_end = self.normal(index, t1, &end[..n], &end[n..])?.lift_margin();
+        let margin_end = match end {
+            Some(normal) => normal.lift_margin(),
+            None => {
+                let end = self.stepper.y().to_vec();
+                self.normal(index, t1, &end[..n], &end[n..])?.lift_margin()
+            }
+        };
         let crossing = if margin_end <= 0.0
             && margin_start.max(margin_end) < -(margin_end - margin_start).abs()
         {

@@ -3,7 +3,7 @@
 
 use super::control::{EvalFailure, Trial};
 use super::dop853_tableau::{A, B, BHH, C, D, ER, STAGES};
-use super::kernels::{all_finite, combine, eval, hermite_parts, stage};
+use super::kernels::{all_finite, combine, eval, eval_end, hermite_parts, stage};
 use super::{OdeSystem, Stats, Tolerances};
 
 /// Index of the stage holding `f(t + h, y_new)` (stage 13, FSAL).
@@ -143,7 +143,7 @@ pub(super) fn trial<S: OdeSystem>(
     if err > 1.0 {
         return Trial::Rejected(err);
     }
-    if let Err(e) = eval(sys, stats, t_end, y_new, &mut w.k[FSAL]) {
+    if let Err(e) = eval_end(sys, stats, t_end, y_new, &mut w.k[FSAL]) {
         return Trial::Failed(EvalFailure::Rhs(e));
     }
     if !all_finite(&w.k[FSAL]) {

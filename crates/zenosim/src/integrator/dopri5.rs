@@ -2,7 +2,7 @@
 //! (HNW I, II.5 Table 5.2 and II.6; Hairer's code DOPRI5).
 
 use super::control::{EvalFailure, Trial};
-use super::kernels::{all_finite, combine, eval, hermite_parts, stage};
+use super::kernels::{all_finite, combine, eval, eval_end, hermite_parts, stage};
 use super::{OdeSystem, Stats, Tolerances};
 
 /// Number of stages including the FSAL stage 7.
@@ -119,7 +119,7 @@ fn stages<S: OdeSystem>(
     if !all_finite(y_new) {
         return Err(EvalFailure::NonFinite);
     }
-    eval(sys, stats, t_end, y_new, &mut w.k[FSAL]).map_err(rhs)?;
+    eval_end(sys, stats, t_end, y_new, &mut w.k[FSAL]).map_err(rhs)?;
     if !all_finite(&w.k[FSAL]) {
         return Err(EvalFailure::NonFinite);
     }

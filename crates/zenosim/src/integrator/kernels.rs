@@ -94,6 +94,19 @@ pub(super) fn eval<S: OdeSystem>(
     sys.rhs(t, y, dy)
 }
 
+/// [`eval`] at the end of a trial step ([`OdeSystem::rhs_at_end`]).
+#[inline(always)]
+pub(super) fn eval_end<S: OdeSystem>(
+    sys: &mut S,
+    stats: &mut Stats,
+    t: f64,
+    y: &[f64],
+    dy: &mut [f64],
+) -> Result<(), S::Error> {
+    stats.rhs_evals += 1;
+    sys.rhs_at_end(t, y, dy)
+}
+
 /// Weighted RMS norm `sqrt(mean((x_i / (atol + rtol |y_i|))^2))` (used by hinit).
 #[inline]
 pub(super) fn weighted_rms(x: &[f64], y: &[f64], rtol: f64, atol: f64) -> f64 {

@@ -68,6 +68,14 @@ pub trait OdeSystem {
     fn dimension(&self) -> usize;
     /// Writes `f(t, y)` into `dy` (both of length [`OdeSystem::dimension`]).
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Self::Error>;
+
+    /// [`OdeSystem::rhs`] at the end of a trial step, where the next step starts if the trial
+    /// is accepted: of the calls during a [`Stepper::step`] that returns `Ok`, the last one of
+    /// these is at the step's end (`t()`, `y()`). The default calls `rhs`; a system may
+    /// compute more there, for use after the step.
+    fn rhs_at_end(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Self::Error> {
+        self.rhs(t, y, dy)
+    }
 }
 
 /// The Runge–Kutta pair used by a [`Stepper`].

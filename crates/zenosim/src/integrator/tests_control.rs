@@ -4,7 +4,7 @@
 use super::tests_support::{
     integrate, max_diff, FailAfter, Linear, Oscillator, RefuseNegative, Refused, Riccati, METHODS,
 };
-use super::{Method, StepError, Stepper, Tolerances};
+use super::{Method, OdeSystem, StepError, Stepper, Tolerances};
 
 #[test]
 fn steps_never_pass_t_stop_and_respect_h_max() {
@@ -336,5 +336,55 @@ fn rewind_is_a_start_at_the_last_step_without_evaluating_f_again() {
         started.step(&mut sys, 1.0, h).unwrap();
         assert_eq!((rewound.t(), rewound.y()), (started.t(), started.y()));
         assert_eq!(rewound.suggested_step(), started.suggested_step());
+    }
+}
+
+/// Records where [`OdeSystem::rhs_at_end`] was called last, for a Riccati equation whose first
+/// steps are rejected (`y' = y²` from 1 blows up at t = 1).
+struct EndRecorder {
+    inner: Riccati,
+    last_end: Option<(f64, f64)>,
+    ends: usize,
+}
+
+impl OdeSystem for EndRecorder {
+    type Error = std::convert::Infallible;
+    fn dimension(&self) -> usize {
+        1
+    }
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Self::Error> {
+        self.inner.rhs(t, y, dy)
+    }
+    fn rhs_at_end(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Self::Error> {
+        self.last_end = Some((t, y[0]));
+        self.ends += 1;
+        self.inner.rhs(t, y, dy)
+    }
+}
+
+#[test]
+fn the_last_evaluation_at_a_trial_s_end_is_at_the_accepted_step_s_end() {
+    for method in METHODS {
+        let mut sys = EndRecorder {
+            inner: Riccati { calls: 0 },
+            last_end: None,
+            ends: 0,
+        };
+        let mut st = Stepper::new(method, 1, Tolerances::default());
+        // A first step far too long: the trials before the accepted one are rejected.
+        st.start(&mut sys, 0.0, &[1.0], Some(0.9)).unwrap();
+        for _ in 0..20 {
+            st.step(&mut sys, 0.99, f64::INFINITY).unwrap();
+            assert_eq!(sys.last_end, Some((st.t(), st.y()[0])), "{method:?}");
+        }
+        let stats = st.stats();
+        assert!(stats.rejected_steps > 0, "{method:?}: {stats:?}");
+        // One per accepted step (DOP853), one per trial (DOPRI5, whose error estimate needs it).
+        let trials = (stats.steps + stats.rejected_steps) as usize;
+        let expected = match method {
+            Method::Dop853 => stats.steps as usize,
+            Method::Dopri5 => trials,
+        };
+        assert_eq!(sys.ends, expected, "{method:?}: {stats:?}");
     }
 }
