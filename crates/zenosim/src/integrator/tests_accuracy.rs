@@ -172,10 +172,14 @@ fn dense_output_is_exact_at_both_ends_and_close_inside() {
     }
 }
 
-#[test]
-fn the_cubic_interpolant_is_exact_on_cubics_and_at_the_ends() {
-    // y1' = 2t, y2' = 3t^2 from (0, 0): (t^2, t^3), which the Hermite cubic through a step's
-    // ends reproduces (up to rounding), without the dense output's evaluations.
+/// Steps `y1' = 2t, y2' = 3t^2` from (0, 0), whose solution `(t^2, t^3)` every step takes
+/// exactly, and checks `interpolate` (after `prepare`) inside each step against it, and at the
+/// step's ends against its states.
+fn exact_on_cubics(
+    prepare: fn(&mut Stepper),
+    interpolate: fn(&Stepper, f64, &mut [f64]),
+    ends_exact: bool,
+) {
     for method in METHODS {
         let mut st = Stepper::new(method, 2, Tolerances::default());
         st.start(&mut Polynomial, 0.0, &[0.0, 0.0], Some(0.1))
@@ -185,13 +189,17 @@ fn the_cubic_interpolant_is_exact_on_cubics_and_at_the_ends() {
         while st.t() < t_end {
             st.step(&mut Polynomial, t_end, 0.7).unwrap();
             let (t0, t) = (st.t_previous(), st.t());
-            st.interpolate_cubic(t0, &mut out);
-            assert_eq!(out, st.y_previous(), "{method:?}: the step's start");
-            st.interpolate_cubic(t, &mut out);
-            assert_eq!(out, st.y(), "{method:?}: the step's end");
+            assert!(max_diff(st.y(), &[t * t, t * t * t]) <= 1e-14 * t.powi(3).max(1.0));
+            prepare(&mut st);
+            if ends_exact {
+                interpolate(&st, t0, &mut out);
+                assert_eq!(out, st.y_previous(), "{method:?}: the step's start");
+                interpolate(&st, t, &mut out);
+                assert_eq!(out, st.y(), "{method:?}: the step's end");
+            }
             for frac in [0.1, 0.5, 0.9] {
                 let s = t0 + frac * (t - t0);
-                st.interpolate_cubic(s, &mut out);
+                interpolate(&st, s, &mut out);
                 let err = max_diff(&out, &[s * s, s * s * s]);
                 assert!(
                     err <= 1e-14 * s.powi(3).max(1.0),
@@ -199,7 +207,24 @@ fn the_cubic_interpolant_is_exact_on_cubics_and_at_the_ends() {
                 );
             }
         }
+        assert_eq!(st.t(), t_end);
     }
+}
+
+#[test]
+fn polynomial_solutions_are_exact_including_dense_output() {
+    exact_on_cubics(
+        |st| st.prepare_dense(&mut Polynomial).unwrap(),
+        |st, t, out| st.interpolate(t, out),
+        false,
+    );
+}
+
+#[test]
+fn the_cubic_interpolant_is_exact_on_cubics_and_at_the_ends() {
+    // The Hermite cubic through a step's ends reproduces (t^2, t^3) (up to rounding), without
+    // the dense output's evaluations.
+    exact_on_cubics(|_| {}, |st, t, out| st.interpolate_cubic(t, out), true);
     // A state that does not move stays exactly what it is (y' = 0).
     let mut still = Linear::new(0.0);
     let mut st = Stepper::new(Method::Dop853, 1, Tolerances::default());
@@ -229,32 +254,4 @@ fn the_cubic_interpolant_is_exact_on_cubics_and_at_the_ends() {
         err > 0.5 * remainder && err < 2.0 * remainder,
         "cubic error {err:e}, remainder {remainder:e}"
     );
-}
-
-#[test]
-fn polynomial_solutions_are_exact_including_dense_output() {
-    // y1' = 2t, y2' = 3t^2 from (0, 0): (t^2, t^3) exactly.
-    for method in METHODS {
-        let mut st = Stepper::new(method, 2, Tolerances::default());
-        st.start(&mut Polynomial, 0.0, &[0.0, 0.0], Some(0.1))
-            .unwrap();
-        let mut out = [0.0; 2];
-        let t_end = 3.0;
-        while st.t() < t_end {
-            st.step(&mut Polynomial, t_end, 0.7).unwrap();
-            let t = st.t();
-            assert!(max_diff(st.y(), &[t * t, t * t * t]) <= 1e-14 * t.powi(3).max(1.0));
-            st.prepare_dense(&mut Polynomial).unwrap();
-            for frac in [0.1, 0.5, 0.9] {
-                let s = st.t_previous() + frac * (t - st.t_previous());
-                st.interpolate(s, &mut out);
-                let err = max_diff(&out, &[s * s, s * s * s]);
-                assert!(
-                    err <= 1e-14 * s.powi(3).max(1.0),
-                    "{method:?} at {s}: {err:e}"
-                );
-            }
-        }
-        assert_eq!(st.t(), t_end);
-    }
 }

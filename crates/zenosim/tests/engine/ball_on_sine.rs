@@ -15,6 +15,19 @@ fn run_paper(options: SimulationOptions) -> (Execution, Trajectory) {
     (run, trajectory)
 }
 
+/// The largest difference between the final states `(q, q̇)` of two runs.
+fn final_state_gap(a: &Execution, b: &Execution) -> f64 {
+    let state = |x: &Execution| {
+        let s = &x.final_state;
+        s.q.iter().chain(&s.q_dot).copied().collect::<Vec<f64>>()
+    };
+    state(a)
+        .iter()
+        .zip(state(b))
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
 fn paper_options() -> SimulationOptions {
     SimulationOptions {
         t_end: BallOnSine::paper().t_end,
@@ -185,20 +198,7 @@ fn under_auto_the_papers_map_acts_on_the_projected_state() {
         leftover > 1e-7,
         "the switch leaves a normal velocity: {leftover}"
     );
-    let gap = map
-        .final_state
-        .q
-        .iter()
-        .chain(&map.final_state.q_dot)
-        .zip(
-            projection
-                .final_state
-                .q
-                .iter()
-                .chain(&projection.final_state.q_dot),
-        )
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
+    let gap = final_state_gap(&map, &projection);
     // Without the projection first this gap was 3.8e-5.
     assert!(gap < 1e-8, "paper's map vs projection at t = 20: {gap}");
 }
@@ -301,20 +301,7 @@ fn a_parabolic_flight_runs_as_the_general_route_with_fewer_evaluations() {
         zb.t_zeno
     );
     // The state at t = 6 within the tolerance (1e-10) of each other.
-    let gap = fast
-        .final_state
-        .q
-        .iter()
-        .chain(&fast.final_state.q_dot)
-        .zip(
-            general
-                .final_state
-                .q
-                .iter()
-                .chain(&general.final_state.q_dot),
-        )
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max);
+    let gap = final_state_gap(&fast, &general);
     assert!(gap <= 1e-10, "final states differ by {gap:e}");
     let (fewer, more) = (fast.stats.rhs_evals, general.stats.rhs_evals);
     println!(
