@@ -167,10 +167,17 @@ fn first_in(
     }
     let fit = Fit::new(ga.0, gb.0, da * width, db * width, gm.0);
     if fit.clear_up_to(0.5, time_resolution(b) / width) {
-        return bracket(m, gm, b, gb, g);
+        // Where the cubic turns in the second half, so may the guard: search it likewise.
+        return if fit.monotone_from(0.5) {
+            bracket(m, gm, b, gb, g)
+        } else {
+            first_in(m, gm, b, gb, g, budget)
+        };
     }
     match between(a, ga, m, gm, g, budget) {
         Some(crossing) => crossing,
+        // Out of evaluations before the first half was shown clear: any crossing in (a, b].
+        None if *budget == 0 => bracket(a, ga, b, gb, g),
         None => first_in(m, gm, b, gb, g, budget),
     }
 }
@@ -196,6 +203,24 @@ impl Fit {
             m1,
             misfit,
         }
+    }
+
+    /// Whether `H` has no turning point on `(from, 1)`: `H'` keeps its sign there.
+    fn monotone_from(&self, from: f64) -> bool {
+        let Fit { p0, p1, m0, m1, .. } = *self;
+        // H'(s) = 3α s² + 2β s + m0 (see `cubic_minimum`).
+        let alpha = 2.0 * p0 + m0 - 2.0 * p1 + m1;
+        let beta = -3.0 * p0 - 2.0 * m0 + 3.0 * p1 - m1;
+        let slope = |s: f64| (3.0 * alpha * s + 2.0 * beta) * s + m0;
+        // A quadratic changes sign on (from, 1) only at a root there: test the ends and its
+        // vertex (where it may touch 0 without a sign change at the ends).
+        let (at_from, at_end) = (slope(from), slope(1.0));
+        let vertex = -beta / (3.0 * alpha);
+        let turns_inside = alpha != 0.0
+            && vertex > from
+            && vertex < 1.0
+            && slope(vertex).signum() != at_from.signum();
+        at_from.signum() == at_end.signum() && !turns_inside
     }
 
     /// Whether `g` is clear of 0 on `[0, upto]` (`upto` in `(0, 1]`): `H` matches `g` at both
@@ -553,6 +578,26 @@ mod tests {
             (value, Some(slope))
         };
         assert!([0.0, 0.25, 0.5].iter().all(|&t| g(t).0 > 0.0) && g(0.75).0 < 0.0);
+        let c = first_crossing(0.0, 1.0, g).expect("a crossing");
+        assert!(
+            g(c.t_admissible).0 > 0.0 && g(c.t_violating).0 <= 0.0,
+            "{c:?}"
+        );
+        assert!((c.t_admissible - r1).abs() <= 4.0 * f64::EPSILON, "{c:?}");
+    }
+
+    /// The same with the three roots in the second half of the bracketing interval (0.66,
+    /// 0.68, 0.74 between the samples 0.5 and 0.75): its first half is clear, and the cubic
+    /// turns in the second (bracketing that half at once closed on 0.74).
+    #[test]
+    fn a_dip_in_the_second_half_is_the_first_crossing_too() {
+        let (r1, r2, r3) = (0.66, 0.68, 0.74);
+        let g = |t: f64| {
+            let value = -100.0 * (t - r1) * (t - r2) * (t - r3);
+            let slope = -100.0 * ((t - r2) * (t - r3) + (t - r1) * (t - r3) + (t - r1) * (t - r2));
+            (value, Some(slope))
+        };
+        assert!(g(0.625).0 > 0.0 && g(0.75).0 < 0.0);
         let c = first_crossing(0.0, 1.0, g).expect("a crossing");
         assert!(
             g(c.t_admissible).0 > 0.0 && g(c.t_violating).0 <= 0.0,

@@ -373,10 +373,15 @@ fn the_last_evaluation_at_a_trial_s_end_is_at_the_accepted_step_s_end() {
         let mut st = Stepper::new(method, 1, Tolerances::default());
         // A first step far too long: the trials before the accepted one are rejected.
         st.start(&mut sys, 0.0, &[1.0], Some(0.9)).unwrap();
-        for _ in 0..20 {
+        // Up to the landing on t_stop = 0.99 (y = 100), each step checked.
+        for _ in 0..1000 {
             st.step(&mut sys, 0.99, f64::INFINITY).unwrap();
             assert_eq!(sys.last_end, Some((st.t(), st.y()[0])), "{method:?}");
+            if st.t() == 0.99 {
+                break;
+            }
         }
+        assert_eq!(st.t(), 0.99, "{method:?}");
         let stats = st.stats();
         assert!(stats.rejected_steps > 0, "{method:?}: {stats:?}");
         // One per accepted step (DOP853), one per trial (DOPRI5, whose error estimate needs it).
