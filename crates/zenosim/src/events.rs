@@ -565,20 +565,20 @@ mod tests {
         assert!((0..1000).all(|k| g(c.t_admissible * f64::from(k) / 1000.0).0 > 0.0));
     }
 
-    /// `g = −100 (t − 0.53)(t − 0.56)(t − 0.72)` is positive at the samples 0, 0.25 and 0.5 of
-    /// the step [0, 1] and negative at 0.75, but dips below 0 on (0.53, 0.56) before its last
-    /// fall at 0.72: the sign change between 0.5 and 0.75 brackets three roots, and the first
-    /// crossing is the first of them (a flight over a crest that touches the slope beyond it).
-    #[test]
-    fn a_dip_before_the_sign_change_is_the_first_crossing() {
-        let (r1, r2, r3) = (0.53, 0.56, 0.72);
-        let g = |t: f64| {
+    /// `g = −100 (t − r1)(t − r2)(t − r3)` with its slope: positive before `r1`, below 0 on
+    /// `(r1, r2)`, positive again until `r3`.
+    fn three_roots(r1: f64, r2: f64, r3: f64) -> impl Fn(f64) -> (f64, Option<f64>) {
+        move |t| {
             let value = -100.0 * (t - r1) * (t - r2) * (t - r3);
             let slope = -100.0 * ((t - r2) * (t - r3) + (t - r1) * (t - r3) + (t - r1) * (t - r2));
             (value, Some(slope))
-        };
-        assert!([0.0, 0.25, 0.5].iter().all(|&t| g(t).0 > 0.0) && g(0.75).0 < 0.0);
-        let c = first_crossing(0.0, 1.0, g).expect("a crossing");
+        }
+    }
+
+    /// The first crossing of [`three_roots`] on the step [0, 1] is at `r1`, to an ulp.
+    fn first_of_three_roots(r1: f64, r2: f64, r3: f64) {
+        let g = three_roots(r1, r2, r3);
+        let c = first_crossing(0.0, 1.0, &g).expect("a crossing");
         assert!(
             g(c.t_admissible).0 > 0.0 && g(c.t_violating).0 <= 0.0,
             "{c:?}"
@@ -586,24 +586,25 @@ mod tests {
         assert!((c.t_admissible - r1).abs() <= 4.0 * f64::EPSILON, "{c:?}");
     }
 
+    /// Roots 0.53, 0.56, 0.72: the guard is positive at the samples 0, 0.25 and 0.5 of the
+    /// step [0, 1] and negative at 0.75, but dips below 0 on (0.53, 0.56) before its last fall
+    /// at 0.72. The sign change between 0.5 and 0.75 brackets three roots, and the first
+    /// crossing is the first of them (a flight over a crest that touches the slope beyond it).
+    #[test]
+    fn a_dip_before_the_sign_change_is_the_first_crossing() {
+        let g = three_roots(0.53, 0.56, 0.72);
+        assert!([0.0, 0.25, 0.5].iter().all(|&t| g(t).0 > 0.0) && g(0.75).0 < 0.0);
+        first_of_three_roots(0.53, 0.56, 0.72);
+    }
+
     /// The same with the three roots in the second half of the bracketing interval (0.66,
     /// 0.68, 0.74 between the samples 0.5 and 0.75): its first half is clear, and the cubic
     /// turns in the second (bracketing that half at once closed on 0.74).
     #[test]
     fn a_dip_in_the_second_half_is_the_first_crossing_too() {
-        let (r1, r2, r3) = (0.66, 0.68, 0.74);
-        let g = |t: f64| {
-            let value = -100.0 * (t - r1) * (t - r2) * (t - r3);
-            let slope = -100.0 * ((t - r2) * (t - r3) + (t - r1) * (t - r3) + (t - r1) * (t - r2));
-            (value, Some(slope))
-        };
-        assert!(g(0.625).0 > 0.0 && g(0.75).0 < 0.0);
-        let c = first_crossing(0.0, 1.0, g).expect("a crossing");
-        assert!(
-            g(c.t_admissible).0 > 0.0 && g(c.t_violating).0 <= 0.0,
-            "{c:?}"
-        );
-        assert!((c.t_admissible - r1).abs() <= 4.0 * f64::EPSILON, "{c:?}");
+        let g = three_roots(0.66, 0.68, 0.74);
+        assert!(g(0.5).0 > 0.0 && g(0.625).0 > 0.0 && g(0.75).0 < 0.0);
+        first_of_three_roots(0.66, 0.68, 0.74);
     }
 
     #[test]
