@@ -766,11 +766,11 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             None
         } else {
             self.dense()?;
-            let (stepper, mech) = (&self.stepper, self.mech);
+            let (stepper, mech, cubic) = (&self.stepper, self.mech, self.cubic);
             let mut y = std::mem::take(&mut self.scratch);
             let mut w = std::mem::take(&mut self.w);
             let crossing = first_crossing(t0, t1, |t| {
-                stepper.interpolate(t, &mut y);
+                interpolate(stepper, cubic, t, &mut y);
                 let (q, q_dot) = y.split_at(n);
                 let margin = mech
                     .normal(index, q, q_dot, &mut w)
