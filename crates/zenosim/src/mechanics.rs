@@ -73,6 +73,15 @@ fn check_direction<const N: usize>(d: &Direction<N>, index: usize) -> Result<(),
     check_acting(&d.pivots, d.s, gradient_norm2, w_norm2, index)
 }
 
+/// `q̈ = acc` into `q_ddot`, unless it or the multiplier `λ` is not finite.
+fn write_finite(acc: &[f64], lambda: f64, q_ddot: &mut [f64]) -> Result<(), DynamicsError> {
+    if !acc.iter().all(|x| x.is_finite()) || !lambda.is_finite() {
+        return Err(DynamicsError::NonFinite);
+    }
+    q_ddot[..acc.len()].copy_from_slice(acc);
+    Ok(())
+}
+
 /// The normal response from the motion held on the constraint at `(q, q̇)`.
 fn normal_of<const N: usize>(
     motion: &ConstrainedMotion<N>,
@@ -215,10 +224,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
                 (held.acc, held.lambda)
             }
         };
-        if !acc.as_slice().iter().all(|x| x.is_finite()) || !lambda.is_finite() {
-            return Err(DynamicsError::NonFinite);
-        }
-        q_ddot[..N].copy_from_slice(acc.as_slice());
+        write_finite(acc.as_slice(), lambda, q_ddot)?;
         Ok(lambda)
     }
 
@@ -253,11 +259,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         with_dimension!(L; self.n, N => {
             let motion = constrained_motion::<N, L>(self.model, index, q, q_dot);
             check_direction(&motion.direction, index)?;
-            let (acc, lambda) = (motion.acc.as_slice(), motion.lambda);
-            if !acc.iter().all(|x| x.is_finite()) || !lambda.is_finite() {
-                return Err(DynamicsError::NonFinite);
-            }
-            q_ddot[..N].copy_from_slice(acc);
+            write_finite(motion.acc.as_slice(), motion.lambda, q_ddot)?;
             normal_of(&motion, q_dot)
         })
     }
