@@ -140,8 +140,9 @@ fn between(
 /// below 0 and come back before it falls for good, and [`bracket`] may close on either. The
 /// midpoint tells: where the cubic through the ends' values and slopes, with the error profile
 /// its misfit there measures (see [`between`]), shows the first half clear of 0, the crossing
-/// is bracketed in the second; elsewhere the first half is searched, then the second. Without
-/// slopes, from a start on the surface, or out of `budget`, it brackets `(a, b]` at once.
+/// is in the second: bracketed there where the cubic does not turn in it, else searched like
+/// the whole. Elsewhere the first half is searched, then the second. Without slopes, from a
+/// start on the surface, or out of `budget`, it brackets `(a, b]` at once.
 fn first_in(
     a: f64,
     ga: (f64, Option<f64>),
@@ -208,9 +209,7 @@ impl Fit {
     /// Whether `H` has no turning point on `(from, 1)`: `H'` keeps its sign there.
     fn monotone_from(&self, from: f64) -> bool {
         let Fit { p0, p1, m0, m1, .. } = *self;
-        // H'(s) = 3α s² + 2β s + m0 (see `cubic_minimum`).
-        let alpha = 2.0 * p0 + m0 - 2.0 * p1 + m1;
-        let beta = -3.0 * p0 - 2.0 * m0 + 3.0 * p1 - m1;
+        let (alpha, beta) = slope_coefficients(p0, p1, m0, m1);
         let slope = |s: f64| (3.0 * alpha * s + 2.0 * beta) * s + m0;
         // A quadratic changes sign on (from, 1) only at a root there: test the ends and its
         // vertex (where it may touch 0 without a sign change at the ends).
@@ -300,12 +299,18 @@ fn cubic_root(a: f64, ga: f64, da: f64, b: f64, gb: f64, db: f64) -> f64 {
     a + s * w
 }
 
+/// `(α, β)` of the slope `H'(s) = 3α s² + 2β s + m0` of the cubic Hermite interpolant with
+/// values `p0`, `p1` and slopes `m0`, `m1` at 0 and 1.
+fn slope_coefficients(p0: f64, p1: f64, m0: f64, m1: f64) -> (f64, f64) {
+    let alpha = 2.0 * p0 + m0 - 2.0 * p1 + m1;
+    let beta = -3.0 * p0 - 2.0 * m0 + 3.0 * p1 - m1;
+    (alpha, beta)
+}
+
 /// The interior local minimum `s ∈ (0, 1)` of the cubic Hermite interpolant with values `p0`,
 /// `p1` and slopes `m0`, `m1` at 0 and 1, if it has one.
 fn cubic_minimum(p0: f64, p1: f64, m0: f64, m1: f64) -> Option<f64> {
-    // H'(s) = 3α s² + 2β s + m0 with α = 2p0 + m0 − 2p1 + m1, β = −3p0 − 2m0 + 3p1 − m1.
-    let alpha = 2.0 * p0 + m0 - 2.0 * p1 + m1;
-    let beta = -3.0 * p0 - 2.0 * m0 + 3.0 * p1 - m1;
+    let (alpha, beta) = slope_coefficients(p0, p1, m0, m1);
     let (qa, qb, qc) = (3.0 * alpha, 2.0 * beta, m0);
     let roots = if qa.abs() <= 1e-12 * (qb.abs() + qc.abs()) {
         [(qb != 0.0).then(|| -qc / qb), None]
