@@ -213,7 +213,11 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             let h_max = options.max_step.min(self.flight_bound);
             self.flight_bound = f64::INFINITY;
             let mut eqs = self.equations();
-            let stepped = self.stepper.step(&mut eqs, options.t_end, h_max);
+            let stepped = if self.parabolic && self.mode == Mode::Free {
+                self.step_on_parabola(&mut eqs, options.t_end, h_max)
+            } else {
+                self.stepper.step(&mut eqs, options.t_end, h_max)
+            };
             stepped.map_err(|e| self.step_error(e))?;
             self.cubic = self.parabolic_step();
             let next = match self.mode {
@@ -255,6 +259,32 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             });
         }
         Ok(())
+    }
+
+    /// One step of free flight on a parabola, its end in closed form
+    /// ([`Stepper::step_exact`]: `q + h (q̇ + h q̈ / 2)`, `q̇ + h q̈`), for one evaluation instead
+    /// of a Runge–Kutta step's twelve. The acceleration at the end must be the one at the start,
+    /// to the bit (as [`Runner::parabolic_step`] asks of any step); where it is not, or the end
+    /// cannot be evaluated, the integrator takes the step instead.
+    fn step_on_parabola(
+        &mut self,
+        eqs: &mut Equations<'a, L>,
+        t_stop: f64,
+        h_max: f64,
+    ) -> Result<(), StepError<DynamicsError>> {
+        let n = self.n;
+        let advance = |y: &[f64], dy: &[f64], h: f64, end: &mut [f64]| {
+            let (q, q_dot, q_ddot) = (&y[..n], &y[n..], &dy[n..]);
+            for i in 0..n {
+                end[i] = q[i] + h * (q_dot[i] + 0.5 * h * q_ddot[i]);
+                end[n + i] = q_dot[i] + h * q_ddot[i];
+            }
+        };
+        let holds = |start: &[f64], end: &[f64]| start[n..] == end[n..];
+        match self.stepper.step_exact(eqs, t_stop, h_max, advance, holds) {
+            Ok(true) => Ok(()),
+            Ok(false) | Err(_) => self.stepper.step(eqs, t_stop, h_max),
+        }
     }
 
     /// Whether the last step is a free flight on a parabola (see [`Runner::cubic`]).

@@ -75,7 +75,7 @@ impl Stepper {
     /// extension of the step preceding it was prepared (its stages are lost).
     pub fn prepare_dense<S: OdeSystem>(&mut self, sys: &mut S) -> Result<(), StepError<S::Error>> {
         match self.dense {
-            Dense::Ready => return Ok(()),
+            Dense::Ready | Dense::Cubic => return Ok(()),
             Dense::Lost => panic!(
                 "Stepper::prepare_dense: the stages of the last accepted step were \
                  overwritten by a failed step; prepare the extension before stepping on"
@@ -159,6 +159,9 @@ impl Stepper {
     /// debug builds, if `out.len()` is not the dimension.
     #[inline]
     pub fn interpolate(&self, t: f64, out: &mut [f64]) {
+        if self.dense == Dense::Cubic {
+            return self.interpolate_cubic(t, out);
+        }
         assert!(
             self.dense == Dense::Ready,
             "Stepper::interpolate: call prepare_dense after each accepted step first"

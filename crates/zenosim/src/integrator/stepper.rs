@@ -24,6 +24,9 @@ pub(super) enum Dense {
     Pending,
     /// The stages were overwritten by the trials of a failed `step`.
     Lost,
+    /// The last step was [`Stepper::step_exact`]: its extension is the cubic Hermite
+    /// interpolant through its ends, exact there, with nothing to prepare.
+    Cubic,
 }
 
 /// Adaptive explicit Runge–Kutta stepper with dense output (HNW I, II.4–II.6).
@@ -306,6 +309,80 @@ impl Stepper {
             self.stats.rejected_steps += 1;
             rejected = true;
         }
+    }
+
+    /// Takes one step along a solution known in closed form over it, a polynomial of degree at
+    /// most 3 in `t` (a body in free fall under a constant force): `advance(y, dy, h, y_new)`
+    /// writes the state a signed time `h` after the current one `(y, dy = f(t, y))`, and
+    /// `holds(dy, dy_new)` says, from `f` at both ends, whether the closed form holds over the
+    /// step. Returns whether the step was taken: where `holds` says no, the stepper is unchanged
+    /// (its step-size control too), and [`Stepper::step`] is the way on.
+    ///
+    /// The step's size is the one [`Stepper::step`] would try first (at most `h_max`, landing
+    /// on `t_stop`), and the next one grows as after a step of zero error. It costs one
+    /// evaluation, `f` at the new state, and has no error estimate. Its continuous extension is
+    /// the cubic Hermite interpolant ([`interpolate_cubic`](Stepper::interpolate_cubic), also
+    /// what [`interpolate`](Stepper::interpolate) gives, with nothing to prepare). On error
+    /// (`f` fails or is not finite at the new state) the stepper is unchanged.
+    ///
+    /// # Panics
+    /// As [`Stepper::step`].
+    pub fn step_exact<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t_stop: f64,
+        h_max: f64,
+        advance: impl FnOnce(&[f64], &[f64], f64, &mut [f64]),
+        holds: impl FnOnce(&[f64], &[f64]) -> bool,
+    ) -> Result<bool, StepError<S::Error>> {
+        assert!(
+            self.started,
+            "Stepper::step_exact before a successful start"
+        );
+        assert!(h_max > 0.0, "Stepper::step_exact: h_max must be positive");
+        assert!(!t_stop.is_nan(), "Stepper::step_exact: t_stop is NaN");
+        let span = t_stop - self.t;
+        if span == 0.0 {
+            return Ok(true);
+        }
+        let (dir, dist) = (span.signum(), span.abs());
+        let proposal = self.h_next;
+        let h = proposal.min(h_max);
+        let landing = h >= dist || (1.01 * h >= dist && dist <= h_max);
+        let (h_abs, t_end) = if landing {
+            (dist, t_stop)
+        } else {
+            (h, self.t + dir * h)
+        };
+        let hs = dir * h_abs;
+        advance(&self.y, &self.dy, hs, &mut self.y_new);
+        eval(sys, &mut self.stats, t_end, &self.y_new, &mut self.scratch)
+            .map_err(|source| StepError::Rhs { t: self.t, source })?;
+        if !all_finite(&self.y_new) || !all_finite(&self.scratch) {
+            return Err(StepError::NonFinite { t: self.t });
+        }
+        if !holds(&self.dy, &self.scratch) {
+            return Ok(false);
+        }
+        let fac = self.control.accept_factor(0.0, self.err_previous);
+        let mut h_new = h_abs * fac;
+        if h_abs < proposal {
+            // Shortened by t_stop or h_max: keep the proposal, as `step` does.
+            h_new = h_new.max(proposal);
+        }
+        self.err_previous = INITIAL_ERR_PREVIOUS;
+        self.stats.steps += 1;
+        self.t_prev = self.t;
+        self.t = t_end;
+        self.h_last = hs;
+        self.h_next = h_new.min(f64::MAX);
+        std::mem::swap(&mut self.y_prev, &mut self.y);
+        std::mem::swap(&mut self.y, &mut self.y_new);
+        std::mem::swap(&mut self.dy_prev, &mut self.dy);
+        std::mem::swap(&mut self.dy, &mut self.scratch);
+        self.end_replaced = false;
+        self.dense = Dense::Cubic;
+        Ok(true)
     }
 
     /// Commits the trial in `y_new` / the FSAL stage as the new state.

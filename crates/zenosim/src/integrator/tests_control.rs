@@ -393,3 +393,106 @@ fn the_last_evaluation_at_a_trial_s_end_is_at_the_accepted_step_s_end() {
         assert_eq!(sys.ends, expected, "{method:?}: {stats:?}");
     }
 }
+
+/// A body falling under gravity, `y = (x, v)`, `y' = (v, −g)`: its solution is a parabola, the
+/// closed form [`Stepper::step_exact`] is for.
+struct Fall;
+
+const G: f64 = 9.81;
+
+impl OdeSystem for Fall {
+    type Error = std::convert::Infallible;
+    fn dimension(&self) -> usize {
+        2
+    }
+    fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Self::Error> {
+        dy[0] = y[1];
+        dy[1] = -G;
+        Ok(())
+    }
+}
+
+/// The state a time `h` after `(x, v)` with `ẍ = dy[1]`, and whether the acceleration is the
+/// same at both ends.
+fn parabola(y: &[f64], dy: &[f64], h: f64, end: &mut [f64]) {
+    end[0] = y[0] + h * (y[1] + 0.5 * h * dy[1]);
+    end[1] = y[1] + h * dy[1];
+}
+
+fn same_acceleration(start: &[f64], end: &[f64]) -> bool {
+    start[1] == end[1]
+}
+
+#[test]
+fn an_exact_step_is_the_step_the_integrator_takes_for_one_evaluation() {
+    for method in METHODS {
+        let mut exact = Stepper::new(method, 2, Tolerances::default());
+        exact.start(&mut Fall, 0.0, &[1.0, 2.0], Some(0.1)).unwrap();
+        for t_stop in [1.0, 10.0] {
+            while exact.t() < t_stop {
+                // The integrator's step from the same state, for comparison.
+                let mut rk = exact.clone();
+                rk.step(&mut Fall, t_stop, 0.7).unwrap();
+                let evaluations = exact.stats().rhs_evals;
+                let taken = exact
+                    .step_exact(&mut Fall, t_stop, 0.7, parabola, same_acceleration)
+                    .unwrap();
+                assert!(taken);
+                assert_eq!(exact.stats().rhs_evals, evaluations + 1, "{method:?}");
+                // The same step (its size, landing on t_stop), on the closed form; the next
+                // one grows as after no error at all.
+                assert_eq!(exact.t(), rk.t(), "{method:?}");
+                assert_eq!(exact.t_previous(), rk.t_previous(), "{method:?}");
+                assert!(exact.suggested_step() >= rk.suggested_step(), "{method:?}");
+                let t = exact.t();
+                let closed = [1.0 + 2.0 * t - 0.5 * G * t * t, 2.0 - G * t];
+                let scale = 1.0 + G * t * t;
+                assert!(max_diff(exact.y(), &closed) <= 4.0 * f64::EPSILON * scale);
+                let gap = max_diff(exact.y(), rk.y());
+                // (The Runge–Kutta step rounds its twelve stages.)
+                assert!(
+                    gap <= 32.0 * f64::EPSILON * scale,
+                    "{method:?} at {t}: {gap:e}"
+                );
+                // Its extension is the cubic, with nothing to prepare.
+                exact.prepare_dense(&mut Fall).unwrap();
+                assert_eq!(exact.stats().rhs_evals, evaluations + 1, "{method:?}");
+                let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
+                let s = exact.t_previous() + 0.3 * (t - exact.t_previous());
+                exact.interpolate(s, &mut a);
+                exact.interpolate_cubic(s, &mut b);
+                assert_eq!(a, b, "{method:?}");
+                let at_s = [1.0 + 2.0 * s - 0.5 * G * s * s, 2.0 - G * s];
+                assert!(max_diff(&a, &at_s) <= 8.0 * f64::EPSILON * scale);
+            }
+            assert_eq!(exact.t(), t_stop, "{method:?}");
+        }
+    }
+}
+
+#[test]
+fn an_exact_step_whose_closed_form_fails_leaves_the_stepper_as_it_was() {
+    // The oscillator's acceleration changes along the step: no parabola.
+    for method in METHODS {
+        let mut sys = Oscillator { calls: 0 };
+        let mut st = Stepper::new(method, 2, Tolerances::default());
+        st.start(&mut sys, 0.0, &[1.0, 0.0], Some(0.1)).unwrap();
+        st.step(&mut sys, 10.0, 1.0).unwrap();
+        let before = st.clone();
+        let taken = st
+            .step_exact(&mut sys, 10.0, 1.0, parabola, same_acceleration)
+            .unwrap();
+        assert!(!taken, "{method:?}");
+        assert_eq!(st.stats().rhs_evals, before.stats().rhs_evals + 1);
+        assert_eq!(st.stats().steps, before.stats().steps);
+        assert_eq!((st.t(), st.t_previous()), (before.t(), before.t_previous()));
+        assert_eq!((st.y(), st.dy()), (before.y(), before.dy()));
+        assert_eq!(st.suggested_step(), before.suggested_step());
+        // The integrator goes on as if the trial had not been made.
+        let mut again = before.clone();
+        st.step(&mut sys, 10.0, 1.0).unwrap();
+        again.step(&mut sys, 10.0, 1.0).unwrap();
+        assert_eq!((st.t(), st.y()), (again.t(), again.y()), "{method:?}");
+        assert_eq!(st.suggested_step(), again.suggested_step(), "{method:?}");
+    }
+}
