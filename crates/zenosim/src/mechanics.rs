@@ -73,7 +73,9 @@ fn check_direction<const N: usize>(d: &Direction<N>, index: usize) -> Result<(),
     check_acting(&d.pivots, d.s, gradient_norm2, w_norm2, index)
 }
 
-/// `q̈ = acc` into `q_ddot`, unless it or the multiplier `λ` is not finite.
+/// `q̈ = acc` into `q_ddot`, unless it or the multiplier `λ` is not finite. Inlined, so that
+/// the copy has the model's dimension as a constant (no call to `memcpy` per evaluation).
+#[inline(always)]
 fn write_finite(acc: &[f64], lambda: f64, q_ddot: &mut [f64]) -> Result<(), DynamicsError> {
     if !acc.iter().all(|x| x.is_finite()) || !lambda.is_finite() {
         return Err(DynamicsError::NonFinite);
@@ -197,6 +199,22 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         q_ddot: &mut [f64],
     ) -> Result<f64, DynamicsError> {
         with_dimension!(L; self.n, N => self.acceleration_n::<N>(q, q_dot, active, q_ddot))
+    }
+
+    /// The first-order right-hand side at `y = (q, q̇)`: `(q̇, q̈)` into `dy`, `q̈` as
+    /// [`Mechanics::acceleration`] gives it; returns `λ` as it does.
+    pub fn state_derivative(
+        &self,
+        y: &[f64],
+        active: Option<usize>,
+        dy: &mut [f64],
+    ) -> Result<f64, DynamicsError> {
+        with_dimension!(L; self.n, N => {
+            let (q, q_dot) = y.split_at(N);
+            let (velocity, q_ddot) = dy.split_at_mut(N);
+            velocity.copy_from_slice(&q_dot[..N]);
+            self.acceleration_n::<N>(q, q_dot, active, q_ddot)
+        })
     }
 
     fn acceleration_n<const N: usize>(

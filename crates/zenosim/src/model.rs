@@ -94,11 +94,13 @@ pub trait HybridLagrangian {
     /// same at every state (a constant `M` and constant forces, such as a point mass in
     /// Cartesian coordinates under gravity).
     ///
-    /// zenosim then reads the states inside a free step off the step's cubic Hermite
-    /// interpolant, which is exact on a parabola, instead of preparing the step's dense output
-    /// (three evaluations) and stepping again to each impact (a whole step). It checks at every
-    /// use that the acceleration is the same, to the bit, at both ends of the step, and takes
-    /// the general route where it is not.
+    /// zenosim then steps free flight on the parabola in closed form (`q + h (q̇ + h q̈ / 2)`,
+    /// `q̇ + h q̈`: one evaluation, at the step's end, instead of a Runge–Kutta step's twelve),
+    /// and reads the states inside a step off its cubic Hermite interpolant, which is exact on a
+    /// parabola (instead of preparing the dense output and stepping again to each impact). It
+    /// checks at every step that the acceleration is the same, to the bit, at both of its ends,
+    /// and takes the general route where it is not: a wrong declaration costs one evaluation
+    /// per free step and changes nothing else.
     ///
     /// Default: what the [`Compiled`] derivatives show (the free motion traced to constants);
     /// `false` without them. Declare it on a Rust model whose free flight is a parabola so that

@@ -59,11 +59,7 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
-        let (q, q_dot) = y.split_at(self.n);
-        dy[..self.n].copy_from_slice(q_dot);
-        self.mech
-            .acceleration(q, q_dot, self.active, &mut dy[self.n..])
-            .map(|_| ())
+        self.mech.state_derivative(y, self.active, dy).map(|_| ())
     }
 
     /// On a constraint, the acceleration and the normal response from one evaluation of the
@@ -113,9 +109,10 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     /// Whether free flight is a parabola ([`HybridLagrangian::parabolic_flight`]).
     parabolic: bool,
     /// Whether the last step is a free flight on a parabola (declared, and the acceleration the
-    /// same to the bit at both its ends): states inside it are then read off its cubic Hermite
-    /// interpolant, exact there, instead of its dense output, and the state at an impact
-    /// without stepping to it again.
+    /// same to the bit at both its ends; a step taken in closed form, [`Runner::step_on_parabola`],
+    /// always is): states inside it are then read off its cubic Hermite interpolant, exact
+    /// there, instead of its dense output, and the state at an impact without stepping to it
+    /// again.
     cubic: bool,
     /// The last sample sent, so that a state shared by two events is sent once.
     last_sample: (f64, Mode, Vec<f64>),

@@ -18,6 +18,12 @@
 //! points, their derivatives and its continuous extension), which is what an
 //! event-locating simulator needs.
 //!
+//! Where the caller knows the solution over a step in closed form, a polynomial of degree at
+//! most 3 in `t` (a body in free fall), [`Stepper::step_exact`] takes the step the integrator
+//! would try with that closed form instead of the stages: one evaluation (at its end, which
+//! the caller checks the closed form against) instead of twelve, and the cubic Hermite
+//! interpolant, exact there, as its continuous extension.
+//!
 //! # Step-size control (II.4)
 //!
 //! With `sc_i = atol + rtol * max(|y_old_i|, |y_new_i|)` the error is the RMS

@@ -65,7 +65,7 @@ impl Stepper {
         self.tol
     }
 
-    /// Prepare the continuous extension of the last accepted step (DOP853: the 3 extra evaluations; done at most once per step; DOPRI5: nothing to evaluate).
+    /// Prepare the continuous extension of the last accepted step (DOP853: the 3 extra evaluations; done at most once per step; DOPRI5, and after [`step_exact`](Stepper::step_exact): nothing to evaluate).
     ///
     /// Failures are reported with `t = t_previous()`; the extension then stays
     /// unprepared.
@@ -151,7 +151,9 @@ impl Stepper {
     /// or 4 (DOPRI5) and reproduces `y_previous()` and `y()` exactly at the end
     /// points (after [`replace_state`](Stepper::replace_state): the end state
     /// before the replacement); outside it extrapolates the polynomial. After a
-    /// (re)start the step has length zero and `out` is set to `y()`.
+    /// (re)start the step has length zero and `out` is set to `y()`. After
+    /// [`step_exact`](Stepper::step_exact) it is the cubic Hermite interpolant
+    /// ([`interpolate_cubic`](Stepper::interpolate_cubic)), exact there.
     ///
     /// # Panics
     /// If [`prepare_dense`](Stepper::prepare_dense) was not called since the

@@ -32,7 +32,8 @@ pub(super) enum Dense {
 /// Adaptive explicit Runge–Kutta stepper with dense output (HNW I, II.4–II.6).
 ///
 /// Owns every work buffer (allocated only in [`Stepper::new`]). Use:
-/// [`start`](Stepper::start), then repeatedly [`step`](Stepper::step); the last
+/// [`start`](Stepper::start), then repeatedly [`step`](Stepper::step) (or
+/// [`step_exact`](Stepper::step_exact) along a closed form); the last
 /// accepted step is `[t_previous(), t()]`, and after
 /// [`prepare_dense`](Stepper::prepare_dense) it can be evaluated anywhere in
 /// between with [`interpolate`](Stepper::interpolate). Integration backwards in
