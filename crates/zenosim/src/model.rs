@@ -95,12 +95,14 @@ pub trait HybridLagrangian {
     /// Cartesian coordinates under gravity).
     ///
     /// zenosim then steps free flight on the parabola in closed form (`q + h (q̇ + h q̈ / 2)`,
-    /// `q̇ + h q̈`: one evaluation, at the step's end, instead of a Runge–Kutta step's twelve),
-    /// and reads the states inside a step off its cubic Hermite interpolant, which is exact on a
+    /// `q̇ + h q̈`: one evaluation, at the step's end, instead of twelve for a DOP853 step), and
+    /// reads the states inside a step off its cubic Hermite interpolant, which is exact on a
     /// parabola (instead of preparing the dense output and stepping again to each impact). It
     /// checks at every step that the acceleration is the same, to the bit, at both of its ends,
-    /// and takes the general route where it is not: a wrong declaration costs one evaluation
-    /// per free step and changes nothing else.
+    /// and takes the general route where it is not: there, a wrong declaration costs one
+    /// evaluation per free step and changes nothing else. The check sees the ends only: a
+    /// force that is the same at both ends of a step but not between them (piecewise constant,
+    /// left and met again within the step) would pass it, so declare this only where it holds.
     ///
     /// Default: what the [`Compiled`] derivatives show (the free motion traced to constants);
     /// `false` without them. Declare it on a Rust model whose free flight is a parabola so that

@@ -260,9 +260,9 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
 
     /// One step of free flight on a parabola, its end in closed form
     /// ([`Stepper::step_exact`]: `q + h (q̇ + h q̈ / 2)`, `q̇ + h q̈`), for one evaluation instead
-    /// of a Runge–Kutta step's twelve. The acceleration at the end must be the one at the start,
-    /// to the bit (as [`Runner::parabolic_step`] asks of any step); where it is not, or the end
-    /// cannot be evaluated, the integrator takes the step instead.
+    /// of a Runge–Kutta step's stages (twelve for DOP853). The acceleration at the end must be
+    /// the one at the start, to the bit (as [`Runner::parabolic_step`] asks of any step); where
+    /// it is not, or the end cannot be evaluated, the integrator takes the step instead.
     fn step_on_parabola(
         &mut self,
         eqs: &mut Equations<'a, L>,

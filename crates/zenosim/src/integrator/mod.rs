@@ -20,9 +20,9 @@
 //!
 //! Where the caller knows the solution over a step in closed form, a polynomial of degree at
 //! most 3 in `t` (a body in free fall), [`Stepper::step_exact`] takes the step the integrator
-//! would try with that closed form instead of the stages: one evaluation (at its end, which
-//! the caller checks the closed form against) instead of twelve, and the cubic Hermite
-//! interpolant, exact there, as its continuous extension.
+//! would try with that closed form: one evaluation (at its end, which the caller checks the
+//! closed form against) instead of the step's stages (twelve for DOP853, six for DOPRI5), and
+//! the cubic Hermite interpolant, exact there, as its continuous extension.
 //!
 //! # Step-size control (II.4)
 //!
@@ -77,8 +77,8 @@ pub trait OdeSystem {
 
     /// [`OdeSystem::rhs`] at the end of a trial step, where the next step starts if the trial
     /// is accepted: of the calls during a [`Stepper::step`] that returns `Ok`, the last one of
-    /// these is at the step's end (`t()`, `y()`). The default calls `rhs`; a system may
-    /// compute more there, for use after the step.
+    /// these is at the step's end (`t()`, `y()`); [`Stepper::step_exact`] makes only this one.
+    /// The default calls `rhs`; a system may compute more there, for use after the step.
     fn rhs_at_end(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Self::Error> {
         self.rhs(t, y, dy)
     }

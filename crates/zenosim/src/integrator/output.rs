@@ -110,17 +110,13 @@ impl Stepper {
     ///
     /// Exact (up to rounding) where the solution is a polynomial of degree at most 3 in `t`,
     /// such as `y = (q, q̇)` under a constant `q̈`; elsewhere of order 3 only. It reproduces
-    /// `y_previous()` and `y()` exactly at the ends. After a (re)start the step has length zero
-    /// and `out` is set to `y()`.
+    /// `y_previous()` and `y()` exactly at the ends (after
+    /// [`replace_state`](Stepper::replace_state): the step's end before the replacement). After
+    /// a (re)start the step has length zero and `out` is set to `y()`.
     ///
     /// # Panics
-    /// After [`replace_state`](Stepper::replace_state) (the derivative at the step's end is
-    /// gone), or, in debug builds, if `out.len()` is not the dimension.
+    /// In debug builds, if `out.len()` is not the dimension.
     pub fn interpolate_cubic(&self, t: f64, out: &mut [f64]) {
-        assert!(
-            !self.end_replaced,
-            "Stepper::interpolate_cubic: the step's end state was replaced"
-        );
         debug_assert_eq!(out.len(), self.y.len());
         let width = self.t - self.t_prev;
         if width == 0.0 {
@@ -135,8 +131,13 @@ impl Stepper {
         let (near_start, cd) = (s <= 0.5, if s <= 0.5 { s } else { -s1 });
         let h = self.h_last;
         let ss1 = s * s1;
-        let ends = self.y_prev.iter().zip(&self.y);
-        let slopes = self.dy_prev.iter().zip(&self.dy);
+        let dy_end = if self.end_replaced {
+            &self.dy_end
+        } else {
+            &self.dy
+        };
+        let ends = self.y_prev.iter().zip(self.step_end());
+        let slopes = self.dy_prev.iter().zip(dy_end);
         for ((o, (&y0, &y1)), (&f0, &f1)) in out.iter_mut().zip(ends).zip(slopes) {
             let diff = y1 - y0;
             let bend = s1 * (h * f0 - diff) + s * (diff - h * f1);

@@ -3,7 +3,7 @@
 use super::control::{
     hinit, underflow_threshold, Control, EvalFailure, Trial, FAILURE_SHRINK, INITIAL_ERR_PREVIOUS,
 };
-use super::kernels::{all_finite, eval};
+use super::kernels::{all_finite, eval, eval_end};
 use super::{dop853, dopri5, Method, OdeSystem, Stats, StepError, Tolerances};
 
 /// Method-specific work buffers (one per stepper, so the size difference of
@@ -61,6 +61,8 @@ pub struct Stepper {
     pub(super) y_new: Vec<f64>,
     /// End state of the last accepted step once `replace_state` replaced `y`.
     pub(super) y_end: Vec<f64>,
+    /// Its derivative, once `replace_state` replaced `dy` (for the cubic interpolant).
+    pub(super) dy_end: Vec<f64>,
     /// Whether `y_end` (rather than `y`) holds the end of the last step.
     pub(super) end_replaced: bool,
     pub(super) scratch: Vec<f64>,
@@ -103,6 +105,7 @@ impl Stepper {
             dy_prev: vec![0.0; n],
             y_new: vec![0.0; n],
             y_end: vec![0.0; n],
+            dy_end: vec![0.0; n],
             end_replaced: false,
             scratch: vec![0.0; n],
             stats: Stats::default(),
@@ -214,12 +217,17 @@ impl Stepper {
         if !all_finite(&self.y_new) || !all_finite(&self.scratch) {
             return Err(StepError::NonFinite { t });
         }
-        if !self.end_replaced {
+        let first = !self.end_replaced;
+        if first {
             std::mem::swap(&mut self.y_end, &mut self.y);
             self.end_replaced = true;
         }
         std::mem::swap(&mut self.y, &mut self.y_new);
         std::mem::swap(&mut self.dy, &mut self.scratch);
+        if first {
+            // The step's own end derivative, now in `scratch`, for its cubic interpolant.
+            std::mem::swap(&mut self.dy_end, &mut self.scratch);
+        }
         Ok(())
     }
 
@@ -316,12 +324,14 @@ impl Stepper {
     /// most 3 in `t` (a body in free fall under a constant force): `advance(y, dy, h, y_new)`
     /// writes the state a signed time `h` after the current one `(y, dy = f(t, y))`, and
     /// `holds(dy, dy_new)` says, from `f` at both ends, whether the closed form holds over the
-    /// step. Returns whether the step was taken: where `holds` says no, the stepper is unchanged
-    /// (its step-size control too), and [`Stepper::step`] is the way on.
+    /// step. Returns whether the step was taken: where `holds` says no (or the step would be a
+    /// step-size underflow), the stepper is unchanged (its step-size control and the last
+    /// step's extension too), and [`Stepper::step`] is the way on.
     ///
     /// The step's size is the one [`Stepper::step`] would try first (at most `h_max`, landing
     /// on `t_stop`), and the next one grows as after a step of zero error. It costs one
-    /// evaluation, `f` at the new state, and has no error estimate. Its continuous extension is
+    /// evaluation, `f` at the new state ([`OdeSystem::rhs_at_end`]), and has no error estimate
+    /// (the closed form is the caller's to vouch for). Its continuous extension is
     /// the cubic Hermite interpolant ([`interpolate_cubic`](Stepper::interpolate_cubic), also
     /// what [`interpolate`](Stepper::interpolate) gives, with nothing to prepare). On error
     /// (`f` fails or is not finite at the new state) the stepper is unchanged.
@@ -355,9 +365,13 @@ impl Stepper {
         } else {
             (h, self.t + dir * h)
         };
+        if !landing && h_abs < underflow_threshold(self.t) {
+            // Left to `step`, which reports the underflow.
+            return Ok(false);
+        }
         let hs = dir * h_abs;
         advance(&self.y, &self.dy, hs, &mut self.y_new);
-        eval(sys, &mut self.stats, t_end, &self.y_new, &mut self.scratch)
+        eval_end(sys, &mut self.stats, t_end, &self.y_new, &mut self.scratch)
             .map_err(|source| StepError::Rhs { t: self.t, source })?;
         if !all_finite(&self.y_new) || !all_finite(&self.scratch) {
             return Err(StepError::NonFinite { t: self.t });

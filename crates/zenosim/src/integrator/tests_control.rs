@@ -445,11 +445,19 @@ fn an_exact_step_is_the_step_the_integrator_takes_for_one_evaluation() {
                 assert_eq!(exact.t_previous(), rk.t_previous(), "{method:?}");
                 assert!(exact.suggested_step() >= rk.suggested_step(), "{method:?}");
                 let t = exact.t();
+                let (h, next) = (t - exact.t_previous(), exact.suggested_step());
+                if t < t_stop && h < 0.6 {
+                    // Not shortened (by t_stop or h_max = 0.7): the largest growth (6 for
+                    // DOP853, 10 for DOPRI5).
+                    let growth = if method == Method::Dop853 { 6.0 } else { 10.0 };
+                    // (h as t − t_previous, up to its rounding.)
+                    assert!((next - h * growth).abs() <= 4.0 * f64::EPSILON * next);
+                }
                 let closed = [1.0 + 2.0 * t - 0.5 * G * t * t, 2.0 - G * t];
                 let scale = 1.0 + G * t * t;
                 assert!(max_diff(exact.y(), &closed) <= 4.0 * f64::EPSILON * scale);
                 let gap = max_diff(exact.y(), rk.y());
-                // (The Runge–Kutta step rounds its twelve stages.)
+                // (The Runge–Kutta step rounds its stages' sum.)
                 assert!(
                     gap <= 32.0 * f64::EPSILON * scale,
                     "{method:?} at {t}: {gap:e}"
@@ -488,11 +496,77 @@ fn an_exact_step_whose_closed_form_fails_leaves_the_stepper_as_it_was() {
         assert_eq!((st.t(), st.t_previous()), (before.t(), before.t_previous()));
         assert_eq!((st.y(), st.dy()), (before.y(), before.dy()));
         assert_eq!(st.suggested_step(), before.suggested_step());
+        // The last step's extension is still there to prepare.
+        let mut prepared = before.clone();
+        prepared.prepare_dense(&mut sys).unwrap();
+        st.prepare_dense(&mut sys).unwrap();
+        let middle = 0.5 * (st.t_previous() + st.t());
+        let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
+        st.interpolate(middle, &mut a);
+        prepared.interpolate(middle, &mut b);
+        assert_eq!(a, b, "{method:?}");
         // The integrator goes on as if the trial had not been made.
         let mut again = before.clone();
         st.step(&mut sys, 10.0, 1.0).unwrap();
         again.step(&mut sys, 10.0, 1.0).unwrap();
         assert_eq!((st.t(), st.y()), (again.t(), again.y()), "{method:?}");
         assert_eq!(st.suggested_step(), again.suggested_step(), "{method:?}");
+    }
+}
+
+#[test]
+fn an_exact_step_whose_end_cannot_be_evaluated_is_an_error_that_changes_nothing() {
+    // y' = −y refusing y < 0; a "closed form" that lands below 0.
+    for method in METHODS {
+        let mut sys = RefuseNegative {
+            refusals: 0,
+            calls: 0,
+        };
+        let mut st = Stepper::new(method, 1, Tolerances::default());
+        st.start(&mut sys, 0.0, &[1.0], Some(0.1)).unwrap();
+        let before = st.clone();
+        let below = |_: &[f64], _: &[f64], _: f64, end: &mut [f64]| end[0] = -1.0;
+        let outcome = st.step_exact(&mut sys, 1.0, 1.0, below, |_, _| true);
+        assert!(
+            matches!(outcome, Err(StepError::Rhs { t: 0.0, .. })),
+            "{method:?}"
+        );
+        assert_eq!(sys.refusals, 1);
+        assert_eq!(
+            (st.t(), st.y(), st.dy()),
+            (before.t(), before.y(), before.dy())
+        );
+        assert_eq!(st.suggested_step(), before.suggested_step());
+        assert_eq!(st.stats().steps, before.stats().steps);
+    }
+}
+
+#[test]
+fn a_replaced_end_keeps_the_exact_step_s_cubic() {
+    // After an exact step, a projection replaces its end: the step's interpolant still runs
+    // through the end as computed (and its derivative there), the next step starts from the new
+    // state.
+    for method in METHODS {
+        let mut st = Stepper::new(method, 2, Tolerances::default());
+        st.start(&mut Fall, 0.0, &[1.0, 2.0], Some(0.1)).unwrap();
+        assert!(st
+            .step_exact(&mut Fall, 1.0, 1.0, parabola, same_acceleration)
+            .unwrap());
+        let (t0, t1, end) = (st.t_previous(), st.t(), st.y().to_vec());
+        let inside = |st: &Stepper| {
+            let mut out = [0.0; 2];
+            st.interpolate(t0 + 0.3 * (t1 - t0), &mut out);
+            out
+        };
+        let before = inside(&st);
+        st.replace_state(&mut Fall, &[end[0] + 1e-3, end[1]])
+            .unwrap();
+        assert_eq!(inside(&st), before, "{method:?}");
+        let mut out = [0.0; 2];
+        st.interpolate_cubic(t1, &mut out);
+        assert_eq!(out.as_slice(), end.as_slice(), "{method:?}");
+        assert_eq!(st.y(), &[end[0] + 1e-3, end[1]]);
+        st.step(&mut Fall, 1.0, 1.0).unwrap();
+        assert_eq!(st.t_previous(), t1);
     }
 }

@@ -335,10 +335,10 @@ impl zenosim::HybridLagrangian for Claimed {
     }
 }
 
-/// A model that declares a parabolic flight it does not have gets the execution it would get
-/// without the claim, to the bit: every closed-form step is checked by the acceleration at its
-/// end, and taken by the integrator instead where that differs. The claim costs that one
-/// evaluation per free step.
+/// A model that declares a parabolic flight it does not have (its acceleration differs at the
+/// ends of every free step) gets the execution it would get without the claim, to the bit:
+/// every closed-form step is checked by the acceleration at its end, and taken by the
+/// integrator instead where that differs. The claim costs that one evaluation per free step.
 #[test]
 fn a_wrong_parabolic_claim_changes_nothing_but_one_evaluation_per_free_step() {
     use zenosim::models::CartPendulum;

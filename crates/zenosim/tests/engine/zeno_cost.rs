@@ -11,8 +11,8 @@
 //! simulator that integrated each flight to a fixed step instead would pay `1/tol`.
 //!
 //! Two models:
-//! - the bouncing ball (`e = 0.5`, from 1 m), whose flights are parabolas that the Runge–Kutta
-//!   pair integrates exactly: all of its cost is the impacts';
+//! - the bouncing ball (`e = 0.5`, from 1 m), whose flights are parabolas, stepped in closed
+//!   form: all of its cost is the impacts';
 //! - the authors' cart pendulum (`e = 0.9`, to its Zeno point at `t ≈ 30.5`), where the
 //!   integration of 30 s of smooth arcs costs more at tighter tolerance, as DOP853 does
 //!   anywhere (about `tol^(−1/8)`: a factor `10^(6/8) ≈ 5.6` between the increments six decades
