@@ -113,10 +113,16 @@ fn between(
         }
     }
     let width = b - a;
-    // A start on the surface (`g` at its rounding, after an event) is left to the samples: near
-    // it the guard is rounding noise, and the refinement would find crossings in the noise (the
-    // caller takes such a start as admissible, and bounds the step after an impact).
-    let on_surface = ga.0 <= 1e-9 * (gb.0 + width * db.abs());
+    // A start on the surface (`g` at its rounding, after an event) that does not clearly leave
+    // it (a grazing start, after a lift-off) is left to the samples: near it the guard is
+    // rounding noise, and the refinement would find crossings in the noise (the caller takes
+    // such a start as admissible). One that leaves it clearly (a rebound: `ġ` there accounts
+    // for a thousandth or more of the change up to `b`) is searched as any other interval:
+    // after a rebound the body may come back and go through the surface before the next sample
+    // (a ball bouncing off a cylinder, where no return is predicted to bound the step).
+    let scale = gb.0 + width * db.abs();
+    let leaving = da * width >= 1e-3 * scale;
+    let on_surface = ga.0 <= 1e-9 * scale && !leaving;
     if on_surface || *budget == 0 || width <= time_resolution(b) {
         return None;
     }
@@ -673,6 +679,24 @@ mod tests {
             // Samples included; Illinois' regula falsi took 14, 36 and 14 here.
             assert!(evaluations <= 13, "{evaluations} evaluations for {c:?}");
         }
+    }
+
+    /// A rebound off the surface that comes back through it before the step's first sample
+    /// (`g = t (t − 0.1) (t − 0.15)` from `g(0) = 0`, `ġ(0) > 0`; the samples at 1/4, 1/2, 3/4
+    /// and 1 are all positive): the first interval is searched like the others.
+    #[test]
+    fn a_rebound_that_comes_back_before_the_first_sample_is_found() {
+        let g = |t: f64| {
+            let value = t * (t - 0.1) * (t - 0.15);
+            let slope = (t - 0.1) * (t - 0.15) + t * (t - 0.15) + t * (t - 0.1);
+            (value, Some(slope))
+        };
+        let (_, c) = counted(0.0, 1.0, g);
+        assert!((c.t_admissible - 0.1).abs() < 1e-14, "{c:?}");
+        assert!(
+            g(c.t_admissible).0 > 0.0 && g(c.t_violating).0 <= 0.0,
+            "{c:?}"
+        );
     }
 
     /// The same without slopes (the lift-off guard has none): the secant, pushed past its root.

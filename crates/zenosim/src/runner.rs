@@ -397,7 +397,11 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             }
             // Pulled back, it lands after the flight 2 A q̇/|ḧ|: bound the next step by it, as
             // after an impact, so that no step carries the body into the surface and out again
-            // between the samples of its dense output.
+            // between the samples of its dense output. A flight below the time resolution (a
+            // body at rest on the surface and pressed into it, found again at the same time
+            // until it is stuck) bounds nothing: then the step that found this crossing does,
+            // so that the retries do not grow past the body (a ball resting on a cylinder would
+            // otherwise be carried through it by a step whose first sample is beyond it).
             let e = self.sim.model.constraints()[index].restitution;
             let round_off = (normal.a_q_dot_round_off, normal.h_ddot_round_off);
             let hint = match Prediction::new(normal.a_q_dot, normal.h_ddot_free, e, round_off) {
@@ -405,7 +409,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                     self.flight_bound = 1.5 * p.next_flight;
                     hint.min(self.flight_bound)
                 }
-                _ => hint,
+                _ => hint.min(self.stepper.t() - self.stepper.t_previous()),
             };
             self.restart(t_event, &before, Some(hint))?;
             return Ok(Next::Continue);
