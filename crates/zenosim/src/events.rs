@@ -117,11 +117,14 @@ fn between(
     // it (a grazing start, after a lift-off) is left to the samples: near it the guard is
     // rounding noise, and the refinement would find crossings in the noise (the caller takes
     // such a start as admissible). One that leaves it clearly (a rebound: `ġ` there accounts
-    // for a thousandth or more of the change up to `b`) is searched as any other interval:
-    // after a rebound the body may come back and go through the surface before the next sample
-    // (a ball bouncing off a cylinder, where no return is predicted to bound the step).
+    // for a thousandth or more of the change up to `b`, and for a thousand times the start's
+    // offset from 0, so that halving towards the start stops before its rounding counts) is
+    // searched as any other interval: after a rebound the body may come back and go through
+    // the surface before the next sample (a ball bouncing off a cylinder, where no return is
+    // predicted to bound the step).
     let scale = gb.0 + width * db.abs();
-    let leaving = da * width >= 1e-3 * scale;
+    let rise = da * width;
+    let leaving = rise >= 1e-3 * scale && rise >= 1e3 * ga.0.abs();
     let on_surface = ga.0 <= 1e-9 * scale && !leaving;
     if on_surface || *budget == 0 || width <= time_resolution(b) {
         return None;
@@ -659,6 +662,17 @@ mod tests {
         (evaluations, crossing)
     }
 
+    /// The evaluations of a search that finds no crossing.
+    fn counted_none(t0: f64, t1: f64, mut g: impl FnMut(f64) -> (f64, Option<f64>)) -> usize {
+        let mut evaluations = 0;
+        let crossing = first_crossing(t0, t1, |t| {
+            evaluations += 1;
+            g(t)
+        });
+        assert!(crossing.is_none(), "{crossing:?}");
+        evaluations
+    }
+
     fn adjacent(c: Crossing) -> bool {
         c.t_violating == c.t_admissible.next_up()
     }
@@ -697,6 +711,19 @@ mod tests {
             g(c.t_admissible).0 > 0.0 && g(c.t_violating).0 <= 0.0,
             "{c:?}"
         );
+        // The same from just below the surface (a start at its rounding): found all the same,
+        // and not at the start.
+        let below = |t: f64| {
+            let (value, slope) = g(t);
+            (value - 1e-17, slope)
+        };
+        let (_, c) = counted(0.0, 1.0, below);
+        assert!((c.t_admissible - 0.1).abs() < 1e-14, "{c:?}");
+        // A rebound that does not come back before the step ends is no crossing, and costs at
+        // most one evaluation more than the samples and their clearance checks.
+        let rebound = |t: f64| (1e-3 * t - 0.5 * 9.81 * t * t - 1e-17, Some(1e-3 - 9.81 * t));
+        let evaluations = counted_none(0.0, 1e-4, rebound);
+        assert!(evaluations <= 5 + 3 + 1, "{evaluations} evaluations");
     }
 
     /// The same without slopes (the lift-off guard has none): the secant, pushed past its root.

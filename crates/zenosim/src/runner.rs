@@ -317,6 +317,8 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
 
     fn after_free_step(&mut self) -> Result<Next, Error> {
         let (t0, t1) = (self.stepper.t_previous(), self.stepper.t());
+        // The step that found the crossing (before `state_at` steps again to it).
+        let found = t1 - t0;
         let Some((index, t_event)) = self.earliest_crossing(t0, t1, None)? else {
             self.commit_step()?;
             return Ok(Next::Continue);
@@ -333,7 +335,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             self.state_at(t_event)?
         };
         let (t_event, before) = self.admissible_side(index, t_event, before)?;
-        self.crossing(index, t_event, before, hint)
+        self.crossing(index, t_event, before, hint, found)
     }
 
     /// A start on a surface (`h ≤ 0`, within the rounding that [`Simulation::new`] admits) that
@@ -360,20 +362,22 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         match contact {
             Some(index) => {
                 let hint = self.stepper.suggested_step();
-                self.crossing(index, self.t, y, hint)
+                self.crossing(index, self.t, y, hint, f64::INFINITY)
             }
             None => Ok(Next::Continue),
         }
     }
 
     /// The guard of constraint `index` crossed at `t_event`, from the state `before` on its
-    /// admissible side: an impact, or a spurious crossing of a body that is leaving.
+    /// admissible side: an impact, or a spurious crossing of a body that is leaving. `hint` is
+    /// the next step's size, `found` the size of the step that found the crossing.
     fn crossing(
         &mut self,
         index: usize,
         t_event: f64,
         before: Vec<f64>,
         hint: f64,
+        found: f64,
     ) -> Result<Next, Error> {
         let (q, q_dot) = before.split_at(self.n);
         let normal = self.normal(index, t_event, q, q_dot)?;
@@ -409,7 +413,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                     self.flight_bound = 1.5 * p.next_flight;
                     hint.min(self.flight_bound)
                 }
-                _ => hint.min(self.stepper.t() - self.stepper.t_previous()),
+                _ => hint.min(found),
             };
             self.restart(t_event, &before, Some(hint))?;
             return Ok(Next::Continue);
