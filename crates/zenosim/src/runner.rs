@@ -31,6 +31,12 @@ const AUTO_ROUND_OFF_ULPS: f64 = 1e4;
 /// are at round-off, the plain hybrid system cannot go on.
 const OFF_ROUND_OFF_ULPS: f64 = 64.0;
 
+/// Whether the derivatives `(q̇, q̈)` of two states of `n` coordinates have the same `q̈`, to the
+/// bit: a free flight between them is a parabola.
+fn same_acceleration(n: usize, a: &[f64], b: &[f64]) -> bool {
+    a[n..] == b[n..]
+}
+
 /// The last step's state at `t` (inside it), off its cubic interpolant where that is exact
 /// ([`Runner::cubic`]), else off its dense output (prepared: [`Runner::dense`]).
 fn interpolate(stepper: &Stepper, cubic: bool, t: f64, out: &mut [f64]) {
@@ -277,7 +283,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 end[n + i] = q_dot[i] + h * q_ddot[i];
             }
         };
-        let holds = |start: &[f64], end: &[f64]| start[n..] == end[n..];
+        let holds = |start: &[f64], end: &[f64]| same_acceleration(n, start, end);
         match self.stepper.step_exact(eqs, t_stop, h_max, advance, holds) {
             Ok(true) => Ok(()),
             Ok(false) | Err(_) => self.stepper.step(eqs, t_stop, h_max),
@@ -289,7 +295,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let n = self.n;
         self.parabolic
             && self.mode == Mode::Free
-            && self.stepper.dy_previous()[n..] == self.stepper.dy()[n..]
+            && same_acceleration(n, self.stepper.dy_previous(), self.stepper.dy())
     }
 
     /// Prepares the dense output of the last step (at most once per step; the stepper keeps

@@ -29,6 +29,19 @@ pub(super) enum Dense {
     Cubic,
 }
 
+/// The next step's size after an accepted one of size `h_abs` with step ratio `fac`: a step
+/// that `t_stop` or `h_max` shortened below the `proposal` it was tried from keeps that
+/// proposal where it was easy (accepted at once, `fac ≥ 1`).
+fn next_size(h_abs: f64, fac: f64, proposal: f64, rejected: bool) -> f64 {
+    let h_new = h_abs * fac;
+    let kept = if !rejected && h_abs < proposal && fac >= 1.0 {
+        h_new.max(proposal)
+    } else {
+        h_new
+    };
+    kept.min(f64::MAX)
+}
+
 /// Adaptive explicit Runge–Kutta stepper with dense output (HNW I, II.4–II.6).
 ///
 /// Owns every work buffer (allocated only in [`Stepper::new`]). Use:
@@ -260,7 +273,6 @@ impl Stepper {
             return Ok(());
         }
         let dir = span.signum();
-        let dist = span.abs();
         if self.dense == Dense::Pending {
             self.dense = Dense::Lost;
         }
@@ -273,8 +285,7 @@ impl Stepper {
         let mut rejected = false;
         let mut last_failure = None;
         loop {
-            let landing = h >= dist || (1.01 * h >= dist && dist <= h_max);
-            let h_abs = if landing { dist } else { h };
+            let (h_abs, t_end, landing) = self.trial_span(h, t_stop, h_max);
             if !landing && h_abs < underflow_threshold(self.t) {
                 let t = self.t;
                 return Err(match last_failure {
@@ -284,7 +295,6 @@ impl Stepper {
                 });
             }
             let hs = dir * h_abs;
-            let t_end = if landing { t_stop } else { self.t + hs };
             let (t, tol, y, y_new) = (self.t, self.tol, &self.y[..], &mut self.y_new[..]);
             let stats = &mut self.stats;
             let outcome = match &mut self.work {
@@ -298,12 +308,7 @@ impl Stepper {
                     if rejected {
                         fac = fac.min(1.0);
                     }
-                    let mut h_new = h_abs * fac;
-                    if !rejected && h_abs < proposal && fac >= 1.0 {
-                        // Shortened by t_stop or h_max, and easy: keep the proposal.
-                        h_new = h_new.max(proposal);
-                    }
-                    self.accept(t_end, hs, h_new.min(f64::MAX));
+                    self.accept(t_end, hs, next_size(h_abs, fac, proposal, rejected));
                     return Ok(());
                 }
                 Trial::Rejected(err) => {
@@ -356,20 +361,13 @@ impl Stepper {
         if span == 0.0 {
             return Ok(true);
         }
-        let (dir, dist) = (span.signum(), span.abs());
         let proposal = self.h_next;
-        let h = proposal.min(h_max);
-        let landing = h >= dist || (1.01 * h >= dist && dist <= h_max);
-        let (h_abs, t_end) = if landing {
-            (dist, t_stop)
-        } else {
-            (h, self.t + dir * h)
-        };
+        let (h_abs, t_end, landing) = self.trial_span(proposal.min(h_max), t_stop, h_max);
         if !landing && h_abs < underflow_threshold(self.t) {
             // Left to `step`, which reports the underflow.
             return Ok(false);
         }
-        let hs = dir * h_abs;
+        let hs = span.signum() * h_abs;
         advance(&self.y, &self.dy, hs, &mut self.y_new);
         eval_end(sys, &mut self.stats, t_end, &self.y_new, &mut self.scratch)
             .map_err(|source| StepError::Rhs { t: self.t, source })?;
@@ -380,29 +378,43 @@ impl Stepper {
             return Ok(false);
         }
         let fac = self.control.accept_factor(0.0, self.err_previous);
-        let mut h_new = h_abs * fac;
-        if h_abs < proposal {
-            // Shortened by t_stop or h_max: keep the proposal, as `step` does.
-            h_new = h_new.max(proposal);
-        }
         self.err_previous = INITIAL_ERR_PREVIOUS;
-        self.stats.steps += 1;
-        self.t_prev = self.t;
-        self.t = t_end;
-        self.h_last = hs;
-        self.h_next = h_new.min(f64::MAX);
-        std::mem::swap(&mut self.y_prev, &mut self.y);
-        std::mem::swap(&mut self.y, &mut self.y_new);
-        std::mem::swap(&mut self.dy_prev, &mut self.dy);
+        self.advance_to(t_end, hs, next_size(h_abs, fac, proposal, false));
         std::mem::swap(&mut self.dy, &mut self.scratch);
-        self.end_replaced = false;
         self.dense = Dense::Cubic;
         Ok(true)
+    }
+
+    /// The trial of size `h` (magnitude) towards `t_stop`: its size, its end, and whether it
+    /// lands on `t_stop` (one within 1% of the distance, and not longer than `h_max`, is
+    /// stretched to land there).
+    fn trial_span(&self, h: f64, t_stop: f64, h_max: f64) -> (f64, f64, bool) {
+        let span = t_stop - self.t;
+        let dist = span.abs();
+        let landing = h >= dist || (1.01 * h >= dist && dist <= h_max);
+        if landing {
+            (dist, t_stop, true)
+        } else {
+            (h, self.t + span.signum() * h, false)
+        }
     }
 
     /// Commits the trial in `y_new` / the FSAL stage as the new state.
     #[inline]
     fn accept(&mut self, t_end: f64, hs: f64, h_next: f64) {
+        self.advance_to(t_end, hs, h_next);
+        match &self.work {
+            Work::Dop853(w) => self.dy.copy_from_slice(&w.k[dop853::FSAL]),
+            Work::Dopri5(w) => self.dy.copy_from_slice(&w.k[dopri5::FSAL]),
+        }
+        self.dense = Dense::Pending;
+    }
+
+    /// Makes the state in `y_new` at `t_end` (a step of signed size `hs`) the current one, the
+    /// current one the step's start, and `h_next` the next step's size; the caller writes the
+    /// derivative at the new state into `dy` and says what the step's extension is.
+    #[inline]
+    fn advance_to(&mut self, t_end: f64, hs: f64, h_next: f64) {
         self.stats.steps += 1;
         self.t_prev = self.t;
         self.t = t_end;
@@ -412,11 +424,6 @@ impl Stepper {
         std::mem::swap(&mut self.y, &mut self.y_new);
         self.end_replaced = false;
         std::mem::swap(&mut self.dy_prev, &mut self.dy);
-        match &self.work {
-            Work::Dop853(w) => self.dy.copy_from_slice(&w.k[dop853::FSAL]),
-            Work::Dopri5(w) => self.dy.copy_from_slice(&w.k[dopri5::FSAL]),
-        }
-        self.dense = Dense::Pending;
     }
 
     /// End state of the last accepted step (differs from `y` after `replace_state`).
