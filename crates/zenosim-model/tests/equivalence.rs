@@ -1,11 +1,13 @@
 //! A model file and the same system written in Rust give the same execution: the shipped model
-//! files against the engine's Rust models of the paper's examples (impact times to 1e-12).
+//! files against the engine's Rust models of the paper's examples (event times to 1e-12, or as
+//! well as the speed at which a surface is approached resolves them).
 
 use std::path::PathBuf;
 
 use zenosim::models::{BallOnSine, BouncingBall, CartPendulum, Example, SphericalPendulum};
 use zenosim::{
-    Completion, EventKind, Execution, HybridLagrangian, Outcome, Simulation, SimulationOptions,
+    Completion, Event, EventKind, Execution, HybridLagrangian, Outcome, Simulation,
+    SimulationOptions,
 };
 use zenosim_model::{parse_model, ModelFile};
 
@@ -40,6 +42,18 @@ fn run<L: HybridLagrangian>(
     Simulation::new(model, q0, q_dot0, options)
         .unwrap()
         .run(&mut ())
+}
+
+/// How far apart the two runs may time `event`: 1e-12, or `1e-13/|ḣ|` where the event's
+/// constraint is approached at `|ḣ| < 0.1` (`ḣ` along the state before it, by central
+/// differences along `q̇`).
+fn time_bound<L: HybridLagrangian>(model: &L, event: &Event) -> f64 {
+    let (q, q_dot) = (&event.before.q, &event.before.q_dot);
+    let delta = 1e-7 / q_dot.iter().fold(1e-300, |m: f64, v| m.max(v.abs()));
+    let along = |s: f64| -> Vec<f64> { q.iter().zip(q_dot).map(|(x, v)| x + s * v).collect() };
+    let h = |s: f64| model.constraint(event.constraint, &along(s));
+    let h_dot = (h(delta) - h(-delta)) / (2.0 * delta);
+    (1e-13 / h_dot.abs()).max(1e-12)
 }
 
 /// Runs a model file from its initial state with its own options.
@@ -89,9 +103,35 @@ fn same_execution<M: HybridLagrangian>(file: &str, rust: Example<M>, completion:
     // The same events, at the same times.
     let kinds = |x: &Execution| x.events.iter().map(|e| e.kind).collect::<Vec<_>>();
     assert_eq!(kinds(&from_file), kinds(&from_rust), "{}", file.name);
+    // Each to 1e-12, or to what a state difference of 1e-13 explains where that is more: a
+    // crossing approached at the speed `ḣ` moves by `δ/|ḣ|` when the state moves by `δ`. The
+    // impacts deep in a Zeno sequence are approached ever more slowly, and two computations that
+    // round differently time them only that well (the spherical pendulum's last impacts, at
+    // `ḣ` near 1e-4, differ by up to 7e-11: a state difference of 7e-15). A switch at a Zeno
+    // point is timed as the impact it follows.
+    let bounds: Vec<f64> = from_file
+        .events
+        .iter()
+        .scan(1e-12, |last, e| {
+            if e.kind != EventKind::Zeno {
+                *last = time_bound(&rust.model, e);
+            }
+            Some(*last)
+        })
+        .collect();
     let mut worst: f64 = 0.0;
-    for (a, b) in from_file.events.iter().zip(&from_rust.events) {
+    let mut worst_allowed: f64 = 0.0;
+    for ((a, b), &allowed) in from_file.events.iter().zip(&from_rust.events).zip(&bounds) {
+        assert!(
+            (a.t - b.t).abs() <= allowed,
+            "{}: {:?} at t = {}: times differ by {:e}, more than {allowed:e}",
+            file.name,
+            a.kind,
+            a.t,
+            a.t - b.t
+        );
         worst = worst.max((a.t - b.t).abs());
+        worst_allowed = worst_allowed.max(allowed);
     }
     let impacts = from_file
         .events
@@ -99,17 +139,18 @@ fn same_execution<M: HybridLagrangian>(file: &str, rust: Example<M>, completion:
         .filter(|e| e.kind == EventKind::Impact)
         .count();
     assert!(impacts > 10, "{}: {impacts} impacts", file.name);
-    assert!(
-        worst <= 1e-12,
-        "{}: event times differ by up to {worst:e}",
-        file.name
-    );
     assert_eq!(from_file.zeno.len(), from_rust.zeno.len());
-    for (a, b) in from_file.zeno.iter().zip(&from_rust.zeno) {
+    let switches = from_file
+        .events
+        .iter()
+        .zip(&bounds)
+        .filter(|(e, _)| e.kind == EventKind::Zeno);
+    for ((a, b), (_, &allowed)) in from_file.zeno.iter().zip(&from_rust.zeno).zip(switches) {
         assert_eq!(a.kind, b.kind);
+        // τ∞ is the switch's time and a remainder much shorter than the last flights.
         assert!(
-            (a.t_zeno - b.t_zeno).abs() <= 1e-12,
-            "τ∞ {} vs {}",
+            (a.t_zeno - b.t_zeno).abs() <= allowed,
+            "τ∞ {} vs {} (at most {allowed:e} apart)",
             a.t_zeno,
             b.t_zeno
         );
@@ -135,7 +176,7 @@ fn same_execution<M: HybridLagrangian>(file: &str, rust: Example<M>, completion:
         file.name
     );
     println!(
-        "{}: {} events, {impacts} impacts, event times differ by at most {worst:e}, final state by {state_gap:e}",
+        "{}: {} events, {impacts} impacts, event times differ by at most {worst:e} (allowed up to {worst_allowed:e}), final state by {state_gap:e}",
         file.name,
         from_file.events.len()
     );

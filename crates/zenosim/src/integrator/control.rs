@@ -9,6 +9,11 @@ const SAFETY: f64 = 0.9;
 /// The previous error norm assumed at a start (Hairer's initial `facold`), and its floor.
 pub(super) const INITIAL_ERR_PREVIOUS: f64 = 1e-4;
 
+/// The floor of the earlier error norm in [`Control::predictive_factor`] (RADAU5's): an
+/// earlier step far more accurate than asked (a short step landing on an event) says little
+/// about the error's growth.
+pub(super) const PREDICTIVE_ERR_FLOOR: f64 = 1e-2;
+
 /// Step-size reduction applied after a failed or non-finite trial.
 pub(super) const FAILURE_SHRINK: f64 = 0.25;
 
@@ -63,6 +68,27 @@ impl Control {
     pub(super) fn accept_factor(&self, err: f64, err_previous: f64) -> f64 {
         let exponent = self.expo - self.beta_weight * self.beta;
         let fac = SAFETY * err_previous.powf(self.beta) / err.powf(exponent);
+        if fac.is_nan() {
+            return self.fac_max;
+        }
+        fac.clamp(self.fac_min, self.fac_max)
+    }
+
+    /// Gustafsson's predictive step ratio (HNW II, IV.8, as in Hairer's RADAU5) after an
+    /// accepted step of size `h` and error norm `err`, the accepted step before it having had
+    /// size `h_before` and error norm `err_before`: the error's growth from one step to the
+    /// next, `err / err_before` at the ratio `h / h_before`, is taken to go on. Where the
+    /// solution's derivatives grow from step to step (a body sliding down into a well), the
+    /// plain ratio overshoots again and again, and each overshoot is a rejected trial.
+    pub(super) fn predictive_factor(
+        &self,
+        err: f64,
+        h: f64,
+        err_before: f64,
+        h_before: f64,
+    ) -> f64 {
+        let err_before = err_before.max(PREDICTIVE_ERR_FLOOR);
+        let fac = SAFETY * (h / h_before) * (err_before / (err * err)).powf(self.expo);
         if fac.is_nan() {
             return self.fac_max;
         }

@@ -67,6 +67,10 @@ pub struct Stepper {
     pub(super) h_next: f64,
     /// The error norm of the last accepted step (Hairer's `facold`), for the PI controller.
     pub(super) err_previous: f64,
+    /// The size and error norm of the last step, if it was accepted on its error estimate
+    /// right after another one (not after a start, a rewind or an exact step): the history of
+    /// the predictive controller ([`Control::predictive_factor`]).
+    accepted: Option<(f64, f64)>,
     pub(super) y: Vec<f64>,
     pub(super) dy: Vec<f64>,
     pub(super) y_prev: Vec<f64>,
@@ -112,6 +116,7 @@ impl Stepper {
             h_last: 0.0,
             h_next: 0.0,
             err_previous: INITIAL_ERR_PREVIOUS,
+            accepted: None,
             y: vec![0.0; n],
             dy: vec![0.0; n],
             y_prev: vec![0.0; n],
@@ -304,6 +309,13 @@ impl Stepper {
             match outcome {
                 Trial::Accepted(err) => {
                     let mut fac = self.control.accept_factor(err, self.err_previous);
+                    if let Some((h_before, err_before)) = self.accepted {
+                        let predicted = self
+                            .control
+                            .predictive_factor(err, h_abs, err_before, h_before);
+                        fac = fac.min(predicted);
+                    }
+                    self.accepted = Some((h_abs, err));
                     self.err_previous = err.max(INITIAL_ERR_PREVIOUS);
                     if rejected {
                         fac = fac.min(1.0);
@@ -379,6 +391,7 @@ impl Stepper {
         }
         let fac = self.control.accept_factor(0.0, self.err_previous);
         self.err_previous = INITIAL_ERR_PREVIOUS;
+        self.accepted = None;
         self.advance_to(t_end, hs, next_size(h_abs, fac, proposal, false));
         std::mem::swap(&mut self.dy, &mut self.scratch);
         self.dense = Dense::Cubic;
@@ -442,6 +455,7 @@ impl Stepper {
         self.y_prev.copy_from_slice(&self.y);
         self.dy_prev.copy_from_slice(&self.dy);
         self.h_last = 0.0;
+        self.accepted = None;
         self.end_replaced = false;
         self.dense = Dense::Ready;
     }

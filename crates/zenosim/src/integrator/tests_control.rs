@@ -570,3 +570,26 @@ fn a_replaced_end_keeps_the_exact_step_s_cubic() {
         assert_eq!(st.t_previous(), t1);
     }
 }
+
+/// Towards the pole of `y' = y²` (`y = 1/(1 − t)`) every derivative grows from step to step, so
+/// that a step size proposed from the last step's error alone overshoots again and again. The
+/// predictive controller follows the error's growth instead. (DOP853 without it: 25 rejected
+/// trials to t = 0.999, 961 evaluations and a relative error of 1.3e-8; with it none, 722 and
+/// 8.6e-9. DOPRI5's control, whose PI term weighs more, rejected none before either.)
+#[test]
+fn a_growing_error_is_predicted_instead_of_rejected_step_after_step() {
+    for (method, t_end) in [(Method::Dop853, 0.999), (Method::Dopri5, 0.99)] {
+        let mut sys = Riccati { calls: 0 };
+        let tol = Tolerances {
+            rtol: 1e-10,
+            atol: 1e-10,
+        };
+        let st = integrate(method, tol, &mut sys, 0.0, &[1.0], t_end).unwrap();
+        let stats = st.stats();
+        let exact = 1.0 / (1.0 - t_end);
+        let error = (st.y()[0] - exact).abs() / exact;
+        assert!(stats.rejected_steps <= 2, "{method:?}: {stats:?}");
+        // The global error near the pole grows like the solution's sensitivity, 1/(1 − t)².
+        assert!(error <= 1e-7, "{method:?}: relative error {error:e}");
+    }
+}

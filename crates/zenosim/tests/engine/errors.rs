@@ -21,8 +21,10 @@ enum Twist {
     Plain,
     /// `L = ½ ẋ² − G x` with no kinetic term in `y`: `M` is singular everywhere.
     NoKineticTerm,
-    /// `L = ½(ẋ² + ẏ²) − G y − 0.1 √(3 − x)`, `h = y`: `L` is NaN for `x > 3`, and the force
-    /// `0.05/√(3 − x)` pulls the ball there while it bounces on `y = 0`.
+    /// `L = ½(ẋ² + ẏ²) − G y − 0.1 (3 − x)^(3/2)`, `h = y`: `L` is NaN for `x > 3`, and the
+    /// force `0.15 √(3 − x)` pulls the ball there while it bounces on `y = 0`. The force stays
+    /// finite up to `x = 3` (with `√(3 − x)` itself it would be singular there, and the step
+    /// could underflow on the singularity before any trial met a NaN).
     NanPastThree,
     /// `L = ½(ẋ² + ẏ² + x ẋ ẏ) + x − G y`, `h = y`: `M = [[1, x/2], [x/2, 1]]` loses
     /// positive definiteness at `x = 2`, which the constant force `+1` along `x` reaches.
@@ -68,7 +70,10 @@ impl HybridLagrangian for Toy {
         match self.twist {
             Twist::Plain => kinetic(v),
             Twist::NoKineticTerm => v[0] * v[0] * 0.5 - q[0] * G,
-            Twist::NanPastThree => kinetic(v) - q[1] * G - (D::from(3.0) - q[0]).sqrt() * 0.1,
+            Twist::NanPastThree => {
+                let gap = D::from(3.0) - q[0];
+                kinetic(v) - q[1] * G - gap.sqrt() * gap * 0.1
+            }
             Twist::MassLosesDefiniteness => kinetic(v) + q[0] * v[0] * v[1] * 0.5 + q[0] - q[1] * G,
             Twist::GuardWithoutDerivative | Twist::Cubic | Twist::AtanWithBadMap => {
                 v[0] * v[0] * 0.5 - q[0] * G
@@ -705,7 +710,7 @@ fn a_lagrangian_that_turns_nan_during_the_run() {
         "{err:?}"
     );
     // The failure is where x reaches 3: before t = 3 (ẋ ≥ 1, the pull only speeds it up), and
-    // after t = 2 (the pull's work 0.1·√3 from x = 0 raises ẋ to at most √(1 + 0.35) < 1.5).
+    // after t = 2 (the pull's work 0.1·3^(3/2) from x = 0 raises ẋ to at most √(1 + 1.04) < 1.5).
     assert!(
         (run.final_state.q[0] - 3.0).abs() < 1e-6,
         "x = {} at the failure",
