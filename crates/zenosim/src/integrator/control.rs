@@ -10,8 +10,7 @@ const SAFETY: f64 = 0.9;
 pub(super) const INITIAL_ERR_PREVIOUS: f64 = 1e-4;
 
 /// The floor of the earlier error norm in [`Control::predictive_factor`] (RADAU5's): an
-/// earlier step far more accurate than asked (a short step landing on an event) says little
-/// about the error's growth.
+/// earlier step far more accurate than asked says little about the error's growth.
 pub(super) const PREDICTIVE_ERR_FLOOR: f64 = 1e-2;
 
 /// Step-size reduction applied after a failed or non-finite trial.

@@ -33,7 +33,11 @@
 //! estimator `err5^2 / sqrt(err5^2 + 0.01 err3^2)` behaves like `h^8`, and
 //! `q + 1 = 5` for DOPRI5). `fac` is clamped to `[1/3, 6]` for DOP853 and
 //! `[1/5, 10]` for DOPRI5 (the defaults of Hairer's codes), and is at most 1
-//! for the step accepted right after a rejection.
+//! for the step accepted right after a rejection. After a step that followed
+//! another at the size it tried, `fac` is also at most Gustafsson's predictive
+//! ratio (HNW II, IV.8, as in RADAU5), which extrapolates the error's growth
+//! from the two steps: where the solution's derivatives grow step after step,
+//! the plain ratio overshoots again and again.
 //!
 //! Two refinements concern the step *size proposal* only: a step shortened to
 //! land on `t_stop` or to respect `h_max`, and accepted without rejection with

@@ -67,9 +67,10 @@ pub struct Stepper {
     pub(super) h_next: f64,
     /// The error norm of the last accepted step (Hairer's `facold`), for the PI controller.
     pub(super) err_previous: f64,
-    /// The size and error norm of the last step, if it was accepted on its error estimate
-    /// right after another one (not after a start, a rewind or an exact step): the history of
-    /// the predictive controller ([`Control::predictive_factor`]).
+    /// The size and error norm of the last step accepted by [`Stepper::step`] at the size it
+    /// tried (none after a start, a rewind, an exact step or a step cut short to land on
+    /// `t_stop` or by `h_max`): the history of the predictive controller
+    /// ([`Control::predictive_factor`]).
     accepted: Option<(f64, f64)>,
     pub(super) y: Vec<f64>,
     pub(super) dy: Vec<f64>,
@@ -309,13 +310,16 @@ impl Stepper {
             match outcome {
                 Trial::Accepted(err) => {
                     let mut fac = self.control.accept_factor(err, self.err_previous);
-                    if let Some((h_before, err_before)) = self.accepted {
+                    // A step cut short (landing on `t_stop`, or by `h_max`) has an error that
+                    // says nothing of the error's growth: no prediction from it, nor after it.
+                    let cut = h_abs < h;
+                    if let (false, Some((h_before, err_before))) = (cut, self.accepted) {
                         let predicted = self
                             .control
                             .predictive_factor(err, h_abs, err_before, h_before);
                         fac = fac.min(predicted);
                     }
-                    self.accepted = Some((h_abs, err));
+                    self.accepted = (!cut).then_some((h_abs, err));
                     self.err_previous = err.max(INITIAL_ERR_PREVIOUS);
                     if rejected {
                         fac = fac.min(1.0);

@@ -593,3 +593,31 @@ fn a_growing_error_is_predicted_instead_of_rejected_step_after_step() {
         assert!(error <= 1e-7, "{method:?}: relative error {error:e}");
     }
 }
+
+/// A step cut short to land on a `t_stop` just ahead has an error at rounding level, which says
+/// nothing of the error's growth: the predictive controller must not shrink the next step from
+/// it, and the proposal it was cut from is kept.
+#[test]
+fn a_short_landing_keeps_the_proposal_with_the_predictive_controller() {
+    for method in METHODS {
+        let mut sys = Oscillator { calls: 0 };
+        let tol = Tolerances {
+            rtol: 1e-8,
+            atol: 1e-8,
+        };
+        let mut st = Stepper::new(method, 2, tol);
+        st.start(&mut sys, 0.0, &[1.0, 0.0], None).unwrap();
+        for _ in 0..3 {
+            st.step(&mut sys, f64::INFINITY, f64::INFINITY).unwrap();
+        }
+        let proposal = st.suggested_step();
+        let t_stop = st.t() + 1e-4 * proposal;
+        st.step(&mut sys, t_stop, f64::INFINITY).unwrap();
+        assert_eq!(st.t(), t_stop);
+        assert!(
+            st.suggested_step() >= proposal,
+            "{method:?}: {} after the landing, {proposal} before",
+            st.suggested_step()
+        );
+    }
+}

@@ -695,20 +695,14 @@ fn the_spherical_pendulum_through_its_pole() {
     }
 }
 
-/// A Lagrangian that is NaN past `x = 3`, reached at `t ≈ 2.85` while the ball bounces.
+/// A Lagrangian that is NaN past `x = 3`, reached at `t ≈ 2.39` while the ball bounces.
 #[test]
 fn a_lagrangian_that_turns_nan_during_the_run() {
     let model = Toy::new(Twist::NanPastThree, 2, &["floor"], 0.9);
     let (run, trajectory) = run(&model, &[0.0, 1.0], &[1.0, 0.0], options(10.0));
     let t = assert_kept_up_to_failure(&run, &trajectory);
     let err = failure(&run);
-    assert!(
-        matches!(
-            err,
-            Error::NonFinite { .. } | Error::StepSizeUnderflow { .. }
-        ),
-        "{err:?}"
-    );
+    assert!(matches!(err, Error::NonFinite { .. }), "{err:?}");
     // The failure is where x reaches 3: before t = 3 (ẋ ≥ 1, the pull only speeds it up), and
     // after t = 2 (the pull's work 0.1·3^(3/2) from x = 0 raises ẋ to at most √(1 + 1.04) < 1.5).
     assert!(
