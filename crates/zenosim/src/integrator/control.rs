@@ -87,10 +87,8 @@ impl Control {
         h_before: f64,
     ) -> f64 {
         let err_before = err_before.max(PREDICTIVE_ERR_FLOOR);
+        // An error of 0 gives an infinite ratio, clamped to the largest.
         let fac = SAFETY * (h / h_before) * (err_before / (err * err)).powf(self.expo);
-        if fac.is_nan() {
-            return self.fac_max;
-        }
         fac.clamp(self.fac_min, self.fac_max)
     }
 
