@@ -26,6 +26,7 @@ use crate::motion::{
 use crate::trace::{self, Bin, Node, Sym, Tape, Term, Un};
 use nalgebra::{SMatrix, SVector};
 use std::cell::RefCell;
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// One instruction; its result goes to the next register.
@@ -33,7 +34,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// `repr(u8)` puts the variant in a byte of its own, which the interpreter's `match` indexes
 /// its jump table with (left to itself, the compiler hides it among the values of `Un`, and
 /// every step pays for finding it there).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[repr(u8)]
 enum Step {
     Add(u32, u32),
@@ -102,6 +103,8 @@ thread_local! {
 trait Bank {
     fn get(&self, k: usize) -> f64;
     fn set(&mut self, k: usize, value: f64);
+    /// Registers `from..from + values.len()` set to `values`, in one copy.
+    fn fill(&mut self, from: usize, values: &[f64]);
 }
 
 /// Indexed by the low byte of the register number: the program's registers are fewer than
@@ -115,6 +118,10 @@ impl Bank for [f64; SMALL] {
     fn set(&mut self, k: usize, value: f64) {
         self[k as u8 as usize] = value;
     }
+    #[inline(always)]
+    fn fill(&mut self, from: usize, values: &[f64]) {
+        self[from..from + values.len()].copy_from_slice(values);
+    }
 }
 
 impl Bank for [f64] {
@@ -126,6 +133,129 @@ impl Bank for [f64] {
     fn set(&mut self, k: usize, value: f64) {
         self[k] = value;
     }
+    #[inline(always)]
+    fn fill(&mut self, from: usize, values: &[f64]) {
+        self[from..from + values.len()].copy_from_slice(values);
+    }
+}
+
+/// Builds a program's steps from tape entries whose values are registers, possibly negated (a
+/// register and whether its value is to be negated: how a negation on the tape reaches its
+/// users).
+///
+/// A negated operand costs no step where IEEE 754 gives the same bits without it: a product
+/// or quotient takes the bases and is itself negated when exactly one operand is; `a + (−b)`
+/// is `a − b` and `a − (−b)` is `a + b` (subtraction is defined as adding the negation), and
+/// `(−a) + b = b − a`, `(−a) − (−b) = b − a` (addition commutes); `fma(−a, −b, c)` is
+/// `fma(a, b, c)`. Elsewhere (a function's argument, `(−a) − b`, whose folding could flip the
+/// sign of a zero result) the negation is done once, by a [`Step::Neg`], and reused.
+struct Emitter {
+    steps: Vec<Step>,
+    /// The registers filled so far (the next step's is `base + work`).
+    work: usize,
+    base: usize,
+    /// Registers holding a negated register's value, by the register negated.
+    negations: HashMap<u32, u32>,
+    /// The steps appended so far, and their registers: a step appended again is reused (two
+    /// entries of the tape can fold to the same step, as `(−a)·b` and `a·(−b)` do).
+    done: HashMap<Step, u32>,
+}
+
+impl Emitter {
+    fn new(base: usize) -> Self {
+        Self {
+            steps: Vec::new(),
+            work: 0,
+            base,
+            negations: HashMap::new(),
+            done: HashMap::new(),
+        }
+    }
+
+    /// Appends `step` (unless it is there already); its register.
+    fn step(&mut self, step: Step) -> u32 {
+        if let Some(&here) = self.done.get(&step) {
+            return here;
+        }
+        let here = (self.base + self.work) as u32;
+        self.steps.push(step);
+        self.work += if matches!(step, Step::SinCos(_)) {
+            2
+        } else {
+            1
+        };
+        self.done.insert(step, here);
+        here
+    }
+
+    /// A [`Step::SinCos`] of register `a`: the register of the sine (the cosine's is the next).
+    fn sin_cos(&mut self, a: u32) -> u32 {
+        self.step(Step::SinCos(a))
+    }
+
+    /// A register holding the value of `(register, negated)`, negating it (once) if need be.
+    fn value(&mut self, (register, negated): (u32, bool)) -> u32 {
+        if !negated {
+            return register;
+        }
+        if let Some(&done) = self.negations.get(&register) {
+            return done;
+        }
+        let done = self.step(Step::Neg(register));
+        self.negations.insert(register, done);
+        done
+    }
+
+    /// `a + b`, as a register and whether it is negated.
+    fn add(&mut self, (ra, na): (u32, bool), (rb, nb): (u32, bool)) -> (u32, bool) {
+        let step = match (na, nb) {
+            (false, false) => Step::Add(ra, rb),
+            (false, true) => Step::Sub(ra, rb),
+            (true, false) => Step::Sub(rb, ra),
+            (true, true) => Step::Sub(self.value((ra, true)), rb),
+        };
+        (self.step(step), false)
+    }
+
+    /// `a − b`, as a register and whether it is negated.
+    fn sub(&mut self, (ra, na): (u32, bool), (rb, nb): (u32, bool)) -> (u32, bool) {
+        let step = match (na, nb) {
+            (false, false) => Step::Sub(ra, rb),
+            (false, true) => Step::Add(ra, rb),
+            (true, true) => Step::Sub(rb, ra),
+            (true, false) => Step::Sub(self.value((ra, true)), rb),
+        };
+        (self.step(step), false)
+    }
+
+    /// `fma(a, b, c)`, as a register and whether it is negated.
+    fn mul_add(
+        &mut self,
+        (ra, na): (u32, bool),
+        (rb, nb): (u32, bool),
+        c: (u32, bool),
+    ) -> (u32, bool) {
+        let (ra, rb) = if na == nb {
+            (ra, rb)
+        } else {
+            (self.value((ra, na)), self.value((rb, nb)))
+        };
+        let rc = self.value(c);
+        (self.step(Step::MulAdd(ra, rb, rc)), false)
+    }
+}
+
+/// How a program does the negations on its tape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Negations {
+    /// Each by a step, where the tape has it.
+    Each,
+    /// Folded into the operations that take them, wherever [`Emitter`] can.
+    Folded,
+    /// Folded, except a negation whose value an output or a function takes: that one by a
+    /// step, whose result what it feeds takes as well (folded instead, it would have to be
+    /// done after each of them).
+    UnlessWanted,
 }
 
 /// The next [`Program::id`] (0 is no program).
@@ -136,11 +266,17 @@ impl Program {
     /// `f` cannot be traced.
     fn trace(inputs: usize, f: &dyn Fn(&[Sym]) -> Vec<Sym>) -> Option<Program> {
         let (tape, outputs) = trace::trace(inputs, f)?;
-        Some(Program::from_tape(&tape, inputs, &outputs))
+        Some(Program::from_tape(&tape, inputs, &outputs, None))
     }
 
-    /// Keeps the entries of `tape` that `outputs` depend on, in order.
-    fn from_tape(tape: &Tape, inputs: usize, outputs: &[Sym]) -> Program {
+    /// Keeps the entries of `tape` that `outputs` depend on, in order, doing its negations as
+    /// `negations` says (`None`: in the way that takes the fewest steps).
+    fn from_tape(
+        tape: &Tape,
+        inputs: usize,
+        outputs: &[Sym],
+        negations: Option<Negations>,
+    ) -> Program {
         let nodes = &tape.nodes;
         let mut live = vec![false; nodes.len()];
         for out in outputs {
@@ -203,53 +339,110 @@ impl Program {
             tape.id_of(Node::Un(partner, a))
                 .filter(|&p| live[p as usize] && p as usize != id)
         };
-        let mut steps = Vec::new();
-        let mut work = 0;
-        for (id, node) in nodes.iter().enumerate() {
-            if !live[id] || register[id] != u32::MAX {
-                continue;
-            }
-            let r = |x: u32| register[x as usize];
-            let here = (base + work) as u32;
-            let step = match *node {
-                Node::Input(_) | Node::Const(_) => continue,
-                Node::Un(op @ (Un::Sin | Un::Cos), a) => {
-                    let partner = if op == Un::Sin { Un::Cos } else { Un::Sin };
-                    match live_partner(id, partner, a) {
-                        Some(p) => {
-                            let (sin, cos) = if op == Un::Sin {
-                                (id, p as usize)
-                            } else {
-                                (p as usize, id)
-                            };
-                            let step = Step::SinCos(r(a));
-                            register[sin] = here;
-                            register[cos] = here + 1;
-                            steps.push(step);
-                            work += 2;
-                            continue;
-                        }
-                        None => Step::Un(op, r(a)),
-                    }
-                }
-                Node::Un(Un::Neg, a) => Step::Neg(r(a)),
-                Node::Un(op, a) => Step::Un(op, r(a)),
-                Node::Bin(Bin::Add, a, b) => Step::Add(r(a), r(b)),
-                Node::Bin(Bin::Sub, a, b) => Step::Sub(r(a), r(b)),
-                Node::Bin(Bin::Mul, a, b) => Step::Mul(r(a), r(b)),
-                Node::Bin(Bin::Div, a, b) => Step::Div(r(a), r(b)),
-                Node::Bin(op, a, b) => Step::Bin(op, r(a), r(b)),
-                Node::MulAdd(a, b, c) => Step::MulAdd(r(a), r(b), r(c)),
-            };
-            register[id] = here;
-            steps.push(step);
-            work += 1;
-        }
-        for (k, out) in outputs.iter().enumerate() {
+        // The entries whose negation, if they are one, is wanted as a value (by an output, or
+        // as the argument of a function), for [`Negations::UnlessWanted`].
+        let mut wanted = vec![false; nodes.len()];
+        for out in outputs {
             if let Term::Node(id) = out.term {
-                output_registers[k] = register[id as usize];
+                wanted[id as usize] = true;
             }
         }
+        for node in nodes.iter().zip(&live).filter(|(_, &l)| l).map(|(n, _)| n) {
+            match *node {
+                Node::Un(op, a) if op != Un::Neg => wanted[a as usize] = true,
+                Node::Bin(Bin::Add | Bin::Sub | Bin::Mul | Bin::Div, ..) => {}
+                Node::Bin(_, a, b) => {
+                    wanted[a as usize] = true;
+                    wanted[b as usize] = true;
+                }
+                _ => {}
+            }
+        }
+        // The steps, with each way of doing the negations: the shortest program is kept.
+        let emit_with = |negations: Negations| {
+            let mut register = register.clone();
+            let mut output_registers = output_registers.clone();
+            let eager = |id: usize| match negations {
+                Negations::Each => true,
+                Negations::Folded => false,
+                Negations::UnlessWanted => wanted[id],
+            };
+            let mut negated = vec![false; nodes.len()];
+            let mut emit = Emitter::new(base);
+            for (id, node) in nodes.iter().enumerate() {
+                if !live[id] || register[id] != u32::MAX {
+                    continue;
+                }
+                let x = |e: u32| (register[e as usize], negated[e as usize]);
+                let (here, negative) = match *node {
+                    Node::Input(_) | Node::Const(_) => continue,
+                    Node::Un(Un::Neg, a) if eager(id) => {
+                        let (ra, na) = x(a);
+                        (emit.value((ra, !na)), false)
+                    }
+                    Node::Un(Un::Neg, a) => {
+                        let (ra, na) = x(a);
+                        (ra, !na)
+                    }
+                    Node::Un(op @ (Un::Sin | Un::Cos), a) => {
+                        let partner = if op == Un::Sin { Un::Cos } else { Un::Sin };
+                        let ra = emit.value(x(a));
+                        match live_partner(id, partner, a) {
+                            Some(p) => {
+                                let (sin, cos) = if op == Un::Sin {
+                                    (id, p as usize)
+                                } else {
+                                    (p as usize, id)
+                                };
+                                let here = emit.sin_cos(ra);
+                                register[sin] = here;
+                                register[cos] = here + 1;
+                                continue;
+                            }
+                            None => (emit.step(Step::Un(op, ra)), false),
+                        }
+                    }
+                    Node::Un(op, a) => {
+                        let ra = emit.value(x(a));
+                        (emit.step(Step::Un(op, ra)), false)
+                    }
+                    Node::Bin(Bin::Add, a, b) => emit.add(x(a), x(b)),
+                    Node::Bin(Bin::Sub, a, b) => emit.sub(x(a), x(b)),
+                    // The sign of a product or quotient is that of its operands' product, exactly
+                    // (zeros and infinities included).
+                    Node::Bin(Bin::Mul, a, b) => {
+                        let ((ra, na), (rb, nb)) = (x(a), x(b));
+                        (emit.step(Step::Mul(ra, rb)), na != nb)
+                    }
+                    Node::Bin(Bin::Div, a, b) => {
+                        let ((ra, na), (rb, nb)) = (x(a), x(b));
+                        (emit.step(Step::Div(ra, rb)), na != nb)
+                    }
+                    Node::Bin(op, a, b) => {
+                        let (ra, rb) = (emit.value(x(a)), emit.value(x(b)));
+                        (emit.step(Step::Bin(op, ra, rb)), false)
+                    }
+                    Node::MulAdd(a, b, c) => emit.mul_add(x(a), x(b), x(c)),
+                };
+                register[id] = here;
+                negated[id] = negative;
+            }
+            for (k, out) in outputs.iter().enumerate() {
+                if let Term::Node(id) = out.term {
+                    output_registers[k] = emit.value((register[id as usize], negated[id as usize]));
+                }
+            }
+            (emit, register, output_registers)
+        };
+        let (emit, register, output_registers) = match negations {
+            Some(only) => emit_with(only),
+            None => [Negations::Folded, Negations::UnlessWanted, Negations::Each]
+                .into_iter()
+                .map(emit_with)
+                .min_by_key(|(emit, ..)| emit.work)
+                .expect("three ways"),
+        };
+        let Emitter { steps, work, .. } = emit;
         let registers = |ids: &[u32]| -> Box<[u32]> {
             let mut list: Vec<u32> = ids.iter().map(|&id| register[id as usize]).collect();
             list.sort_unstable();
@@ -401,9 +594,7 @@ impl Program {
             regs.set(n + k, v);
         }
         if fill {
-            for (k, &c) in self.constants.iter().enumerate() {
-                regs.set(self.inputs + k, c);
-            }
+            regs.fill(self.inputs, &self.constants);
         }
         // Each step's result goes to the next register (two for a `SinCos`).
         let mut here = self.inputs + self.constants.len();
@@ -428,10 +619,12 @@ impl Program {
             regs.set(here, value);
             here += 1;
         }
-        let finite = self
-            .finite
-            .iter()
-            .all(|&w| regs.get(w as usize).is_finite());
+        // Without a branch per witness: `x · 0` is ±0 for a finite `x` and NaN otherwise, and a
+        // NaN stays in the sum.
+        let finite = self.finite.iter().fold(0.0, |sum, &w| {
+            let x = regs.get(w as usize);
+            sum + x * 0.0
+        }) == 0.0;
         let nonzero = self.nonzero.iter().all(|&w| regs.get(w as usize) != 0.0);
         if !(finite && nonzero) {
             return false;
@@ -756,5 +949,92 @@ impl Compiled {
     pub(crate) fn energy(&self, q: &[f64], q_dot: &[f64]) -> Option<f64> {
         let program = self.energy.as_ref().filter(|_| q.len() == self.dimension)?;
         program.run(q, q_dot, |out| out[0])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every way a negation reaches an operation, as a function of `(x, y, z)` over any number:
+    /// traced, it gives the folded program; over `f64`, the reference.
+    fn negations<T: crate::Scalar>(x: T, y: T, z: T) -> Vec<T> {
+        let (nx, ny, nz) = (-x, -y, -z);
+        vec![
+            nx * y,
+            x * ny,
+            nx * ny,
+            nx / y,
+            x / ny,
+            nx / ny,
+            nx + y,
+            x + ny,
+            nx + ny,
+            nx - y,
+            x - ny,
+            nx - ny,
+            nx.mul_add(y, z),
+            x.mul_add(ny, z),
+            nx.mul_add(ny, z),
+            x.mul_add(y, nz),
+            nx.mul_add(y, nz),
+            nx.mul_add(ny, nz),
+            nx.sin(),
+            nx.sin() * nx.cos(),
+            -(nx * y),
+            -(-(nx * y)) + z,
+            nx,
+            -nx,
+            (nx * y) * (nx * z),
+            nx.powd(y),
+        ]
+    }
+
+    #[test]
+    fn folded_negations_give_the_same_bits() {
+        // Inputs (x, y) as q, (z, unused) as q̇.
+        let (tape, outputs) = trace::trace(4, &|v| negations(v[0], v[1], v[2])).expect("traced");
+        let with = |negations| Program::from_tape(&tape, 4, &outputs, negations);
+        let ways = [Negations::Each, Negations::Folded, Negations::UnlessWanted];
+        let specials = [
+            0.0,
+            -0.0,
+            1.5,
+            -2.25,
+            3e-310,
+            f64::INFINITY,
+            -f64::INFINITY,
+            f64::NAN,
+        ];
+        for program in ways.map(Some).into_iter().chain([None]).map(with) {
+            for &x in &specials {
+                for &y in &specials {
+                    for &z in &specials {
+                        let expected = negations(x, y, z);
+                        let outputs = program
+                            .run(&[x, y], &[z, 0.0], <[f64]>::to_vec)
+                            .expect("no witnesses to fail");
+                        for (k, (a, b)) in outputs.iter().zip(&expected).enumerate() {
+                            assert!(
+                                a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                                "output {k} at ({x:e}, {y:e}, {z:e}): {a:e} against {b:e}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        // Folded, a negation is done once, and only where no operation can fold it: of `x`
+        // (for `(−x) − y`, `(−x) + (−y)`, `fma(−x, y, ·)`, the functions of `−x`, the output
+        // `−x`), of `y` (`fma(x, −y, z)`), of `z` (`fma(x, y, −z)`), and of `x y` and `x / y`
+        // (the outputs `(−x) y = x (−y)` and `(−x) / y = x / (−y)`, each one step).
+        let negations_done =
+            |p: &Program| p.steps.iter().filter(|s| matches!(s, Step::Neg(_))).count();
+        assert_eq!(negations_done(&with(Some(Negations::Folded))), 5);
+        // The program kept is the shortest of the three, shorter than with each negation done.
+        let work = ways.map(|w| with(Some(w)).work);
+        let kept = with(None).work;
+        assert_eq!(kept, *work.iter().min().unwrap());
+        assert!(kept < work[0], "{work:?}");
     }
 }
