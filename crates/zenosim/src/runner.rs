@@ -83,6 +83,17 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
         self.end = Some((t, normal));
         Ok(())
     }
+
+    /// On a constraint, the drift of the step's end put back: `h = 0`, `A q̇ = 0`
+    /// ([`Mechanics::project`]). The next step starts there, and the step's dense output ends
+    /// there.
+    fn correct_end(&mut self, _t: f64, y: &mut [f64]) -> Result<(), DynamicsError> {
+        let Some(index) = self.active else {
+            return Ok(());
+        };
+        let (q, q_dot) = y.split_at_mut(self.n);
+        self.mech.project(index, q, q_dot).map(|_| ())
+    }
 }
 
 /// One run in progress.
@@ -835,22 +846,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             }
             return self.liftoff(index, t, state);
         }
-        // Drift: put the step's end back on h = 0, A q̇ = 0.
-        let mut end = self.stepper.y().to_vec();
-
-        let t_end = self.stepper.t();
-        {
-            let (q, q_dot) = end.split_at_mut(n);
-            self.mech
-                .project(index, q, q_dot)
-                .map_err(|err| self.dynamics_error(err, t_end, self.stepper.y()))?;
-        }
-        if end != self.stepper.y() {
-            let mut eqs = self.equations();
-            self.stepper
-                .replace_state(&mut eqs, &end)
-                .map_err(|e| self.step_error(e))?;
-        }
+        // (The step's end is on h = 0, A q̇ = 0 already: `Equations::correct_end`.)
         self.commit_step()?;
         Ok(Next::Continue)
     }
@@ -915,10 +911,12 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
     fn commit_step(&mut self) -> Result<(), Error> {
         let t1 = self.stepper.t();
         match self.sim.options.output {
-            OutputGrid::Steps => {
+            // (An observer that takes no samples costs no copy of the state.)
+            OutputGrid::Steps if self.wants_samples => {
                 let y = self.stepper.y().to_vec();
                 self.emit(t1, &y, self.mode)?;
             }
+            OutputGrid::Steps => {}
             OutputGrid::Uniform(_) => self.emit_grid_through(t1)?,
         }
         self.t = t1;

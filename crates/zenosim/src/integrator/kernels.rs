@@ -94,15 +94,17 @@ pub(super) fn eval<S: OdeSystem>(
     sys.rhs(t, y, dy)
 }
 
-/// [`eval`] at the end of a trial step ([`OdeSystem::rhs_at_end`]).
+/// [`eval`] at the end of a trial step ([`OdeSystem::rhs_at_end`]), once the system has
+/// corrected the end ([`OdeSystem::correct_end`]).
 #[inline(always)]
 pub(super) fn eval_end<S: OdeSystem>(
     sys: &mut S,
     stats: &mut Stats,
     t: f64,
-    y: &[f64],
+    y: &mut [f64],
     dy: &mut [f64],
 ) -> Result<(), S::Error> {
+    sys.correct_end(t, y)?;
     stats.rhs_evals += 1;
     sys.rhs_at_end(t, y, dy)
 }

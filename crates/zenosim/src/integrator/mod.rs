@@ -86,6 +86,14 @@ pub trait OdeSystem {
     fn rhs_at_end(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Self::Error> {
         self.rhs(t, y, dy)
     }
+
+    /// Corrects the end `y` of a trial step at `t` that passed its error test, before
+    /// [`OdeSystem::rhs_at_end`] evaluates it: a system whose solutions keep to a manifold puts
+    /// the end back on it, so that the next step starts there and the step's dense output ends
+    /// there. An error fails the trial, as one from `rhs` does. The default leaves `y` as it is.
+    fn correct_end(&mut self, _t: f64, _y: &mut [f64]) -> Result<(), Self::Error> {
+        Ok(())
+    }
 }
 
 /// The Runge–Kutta pair used by a [`Stepper`].

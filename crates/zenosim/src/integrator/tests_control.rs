@@ -231,6 +231,109 @@ fn blow_up_returns_an_error_and_never_hangs() {
     }
 }
 
+/// The oscillator kept on its circle `x² + v² = 1` by [`OdeSystem::correct_end`], which
+/// rescales each accepted end onto it (and refuses once `refuse_after` ends were corrected).
+struct OnCircle {
+    calls: u64,
+    corrections: u64,
+    refuse_after: u64,
+}
+
+impl OdeSystem for OnCircle {
+    type Error = Refused;
+    fn dimension(&self) -> usize {
+        2
+    }
+    fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Refused> {
+        self.calls += 1;
+        dy[0] = y[1];
+        dy[1] = -y[0];
+        Ok(())
+    }
+    fn correct_end(&mut self, _t: f64, y: &mut [f64]) -> Result<(), Refused> {
+        if self.corrections >= self.refuse_after {
+            return Err(Refused);
+        }
+        self.corrections += 1;
+        let r = y[0].hypot(y[1]);
+        y.iter_mut().for_each(|x| *x /= r);
+        Ok(())
+    }
+}
+
+#[test]
+fn a_corrected_end_is_where_the_next_step_starts_and_the_dense_output_ends() {
+    for method in METHODS {
+        let mut sys = OnCircle {
+            calls: 0,
+            corrections: 0,
+            refuse_after: u64::MAX,
+        };
+        let tol = Tolerances {
+            rtol: 1e-6,
+            atol: 1e-6,
+        };
+        let mut st = Stepper::new(method, 2, tol);
+        st.start(&mut sys, 0.0, &[1.0, 0.0], None).unwrap();
+        while st.t() < 5.0 {
+            let (calls, rejected) = (sys.calls, st.stats().rejected_steps);
+            st.step(&mut sys, 5.0, f64::INFINITY).unwrap();
+            // On the circle to rounding, and the end evaluated there (no evaluation more).
+            let y = st.y();
+            assert!(
+                (y[0].hypot(y[1]) - 1.0).abs() < 4.0 * f64::EPSILON,
+                "{method:?}"
+            );
+            assert_eq!(st.dy(), &[y[1], -y[0]][..], "{method:?}");
+            let stages = if method == Method::Dop853 { 12 } else { 6 };
+            if st.stats().rejected_steps == rejected {
+                assert_eq!(sys.calls - calls, stages, "{method:?}");
+            }
+            let (t, y) = (st.t(), st.y().to_vec());
+            st.prepare_dense(&mut sys).unwrap();
+            let mut out = [0.0; 2];
+            st.interpolate(t, &mut out);
+            assert_eq!(
+                &out[..],
+                &y[..],
+                "{method:?}: dense output ends at the corrected end"
+            );
+        }
+        assert_eq!(sys.corrections, st.stats().steps, "{method:?}");
+        // Still the oscillator's solution, within the tolerance.
+        assert!(
+            max_diff(st.y(), &[5f64.cos(), -5f64.sin()]) < 1e-5,
+            "{method:?}"
+        );
+    }
+}
+
+#[test]
+fn a_refused_correction_fails_the_trial_like_a_refused_evaluation() {
+    for method in METHODS {
+        let mut sys = OnCircle {
+            calls: 0,
+            corrections: 0,
+            refuse_after: 3,
+        };
+        let mut st = Stepper::new(method, 2, Tolerances::default());
+        st.start(&mut sys, 0.0, &[1.0, 0.0], None).unwrap();
+        for _ in 0..3 {
+            st.step(&mut sys, 10.0, f64::INFINITY).unwrap();
+        }
+        let (t, y) = (st.t(), st.y().to_vec());
+        // Every later trial is refused: the step shrinks until it underflows, and the state
+        // stays where the last accepted step left it.
+        match st.step(&mut sys, 10.0, f64::INFINITY) {
+            Err(StepError::Rhs {
+                source: Refused, ..
+            }) => {}
+            other => panic!("{method:?}: {other:?}"),
+        }
+        assert_eq!((st.t(), st.y()), (t, &y[..]), "{method:?}");
+    }
+}
+
 #[test]
 fn replace_state_reevaluates_and_keeps_the_last_step() {
     // Oscillator from (1, 0): the last step's extension stays that of the step
