@@ -21,7 +21,7 @@ use crate::derivatives::{
 use crate::model::HybridLagrangian;
 use crate::motion::{
     constrained_motion_of, direction_of, free_motion_of, held_acceleration_of, ConstrainedMotion,
-    Direction, FreeMotion, HeldAcceleration,
+    Direction, FreeMotion, HeldAcceleration, HeldView,
 };
 use crate::trace::{self, Bin, Node, Sym, Tape, Term, Un};
 use nalgebra::{SMatrix, SVector};
@@ -875,6 +875,20 @@ impl Compiled {
     ) -> Option<HeldAcceleration<N>> {
         self.program::<N>(self.held_acc.get(index))?
             .run_outputs(q, q_dot)
+    }
+
+    /// The acceleration held on constraint `index` at `(q, q̇)`, read in place by `read`, if
+    /// traced for dimension `N` and not refused by a witness.
+    #[inline(always)]
+    pub(crate) fn held_view<const N: usize, R>(
+        &self,
+        index: usize,
+        q: &[f64],
+        q_dot: &[f64],
+        read: impl FnOnce(HeldView<'_, N>) -> R,
+    ) -> Option<R> {
+        self.program::<N>(self.held_acc.get(index))?
+            .run(q, q_dot, |flat| read(HeldView::new(flat)))
     }
 
     /// Constraint `index`'s direction at `(q, q̇)`, if traced for dimension `N`.

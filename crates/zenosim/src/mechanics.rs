@@ -13,7 +13,6 @@ use crate::motion::{
     check_pivots, constrained_motion, degenerate, direction, dot, free_motion, held_acceleration,
     pivots, ConstrainedMotion, Direction, PivotError,
 };
-use nalgebra::SVector;
 
 /// A failure of the mechanics at one state; the caller adds the time and the state.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -52,8 +51,9 @@ impl From<PivotError> for DynamicsError {
 
 /// Checks that constraint `index` can act: `M` positive definite (its pivots), and
 /// `s = A M⁻¹ Aᵀ` away from 0 against `|A|²` and `|M⁻¹Aᵀ|²`.
-fn check_acting<const N: usize>(
-    pivots: &SVector<f64, N>,
+#[inline(always)]
+fn check_acting(
+    pivots: &[f64],
     s: f64,
     gradient_norm2: f64,
     w_norm2: f64,
@@ -70,7 +70,7 @@ fn check_acting<const N: usize>(
 fn check_direction<const N: usize>(d: &Direction<N>, index: usize) -> Result<(), DynamicsError> {
     let (gradient, w) = (d.gradient.as_slice(), d.w.as_slice());
     let (gradient_norm2, w_norm2) = (dot(gradient, gradient), dot(w, w));
-    check_acting(&d.pivots, d.s, gradient_norm2, w_norm2, index)
+    check_acting(d.pivots.as_slice(), d.s, gradient_norm2, w_norm2, index)
 }
 
 /// `q̈ = acc` into `q_ddot`, unless it or the multiplier `λ` is not finite. Inlined, so that
@@ -213,7 +213,33 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             let (q, q_dot) = y.split_at(N);
             let (velocity, q_ddot) = dy.split_at_mut(N);
             velocity.copy_from_slice(&q_dot[..N]);
-            self.acceleration_n::<N>(q, q_dot, active, q_ddot)
+            match self.held_compiled::<N>(q, q_dot, active, q_ddot) {
+                Some(lambda) => lambda,
+                None => self.acceleration_n::<N>(q, q_dot, active, q_ddot),
+            }
+        })
+    }
+
+    /// [`Mechanics::state_derivative`] on a constraint, straight from the outputs of the
+    /// model's compiled program for the acceleration held on it, where the motion is compiled
+    /// whole (a constant `M`, as [`held_acceleration`] takes it): the same numbers and checks,
+    /// without assembling the motion's vectors, once per stage of every step on a constraint.
+    /// `None` where there is no such program or it refuses (a witness failed).
+    #[inline(always)]
+    fn held_compiled<const N: usize>(
+        &self,
+        q: &[f64],
+        q_dot: &[f64],
+        active: Option<usize>,
+        q_ddot: &mut [f64],
+    ) -> Option<Result<f64, DynamicsError>> {
+        let index = active?;
+        let compiled = self.model.compiled().filter(|c| c.constant_mass())?;
+        compiled.held_view::<N, _>(index, q, q_dot, |held| {
+            let (s, gradient_norm2, w_norm2) = held.acting();
+            check_acting(held.pivots(), s, gradient_norm2, w_norm2, index)?;
+            write_finite(held.acc(), held.lambda(), q_ddot)?;
+            Ok(held.lambda())
         })
     }
 
@@ -227,13 +253,13 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         let (acc, lambda) = match active {
             None => {
                 let motion = free_motion::<N, L>(self.model, q, q_dot);
-                check_pivots(&motion.pivots)?;
+                check_pivots(motion.pivots.as_slice())?;
                 (motion.acc, 0.0)
             }
             Some(index) => {
                 let held = held_acceleration::<N, L>(self.model, index, q, q_dot);
                 check_acting(
-                    &held.pivots,
+                    held.pivots.as_slice(),
                     held.s,
                     held.gradient_norm2,
                     held.w_norm2,
@@ -377,7 +403,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         with_dimension!(L; self.n, N => {
             let m = mass_matrix::<N, L>(self.model, q, q_dot);
             out[..N * N].copy_from_slice(m.as_slice());
-            Ok(check_pivots(&pivots(&m))?)
+            Ok(check_pivots(pivots(&m).as_slice())?)
         })
     }
 

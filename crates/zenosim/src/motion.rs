@@ -235,6 +235,42 @@ impl<const N: usize, T: Scalar> Outputs<T> for HeldAcceleration<N, T> {
     }
 }
 
+/// A [`HeldAcceleration`] read in place from the numbers its program leaves, in the order of
+/// its [`Outputs::write`]: for a right-hand side, which needs no vectors of it.
+pub(crate) struct HeldView<'a, const N: usize> {
+    flat: &'a [f64],
+}
+
+impl<'a, const N: usize> HeldView<'a, N> {
+    /// The view of `flat`, the outputs of a program for [`HeldAcceleration<N>`].
+    #[inline(always)]
+    pub fn new(flat: &'a [f64]) -> Self {
+        assert!(flat.len() >= 2 * N + 4, "as many outputs as written");
+        Self { flat }
+    }
+    /// `q̈`.
+    #[inline(always)]
+    pub fn acc(&self) -> &'a [f64] {
+        &self.flat[..N]
+    }
+    /// `λ`.
+    #[inline(always)]
+    pub fn lambda(&self) -> f64 {
+        self.flat[N]
+    }
+    /// The pivots of `M`'s factorisation.
+    #[inline(always)]
+    pub fn pivots(&self) -> &'a [f64] {
+        &self.flat[N + 1..2 * N + 1]
+    }
+    /// `(s, |A|², |M⁻¹ Aᵀ|²)`.
+    #[inline(always)]
+    pub fn acting(&self) -> (f64, f64, f64) {
+        let k = 2 * N + 1;
+        (self.flat[k], self.flat[k + 1], self.flat[k + 2])
+    }
+}
+
 /// `a · b` in index order from zero (the same sum over every number type), over slices: one
 /// function for every dimension.
 pub(crate) fn dot<T: Scalar>(a: &[T], b: &[T]) -> T {
@@ -465,9 +501,8 @@ pub(crate) fn pivots<const N: usize>(m: &SMatrix<f64, N, N>) -> SVector<f64, N> 
 
 /// Whether `M` is positive definite, from its pivots: `Err` names why not, from the first pivot
 /// that is not a positive number (a negative pivot makes every later one NaN).
-pub(crate) fn check_pivots<const N: usize>(pivots: &SVector<f64, N>) -> Result<(), PivotError> {
-    // Over the slice: nalgebra's own iterator costs more than the test here.
-    let pivots = pivots.as_slice();
+#[inline(always)]
+pub(crate) fn check_pivots(pivots: &[f64]) -> Result<(), PivotError> {
     if pivots.iter().all(|&p| p > 0.0 && p < f64::INFINITY) {
         return Ok(());
     }
@@ -490,6 +525,25 @@ pub(crate) enum PivotError {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_held_view_reads_what_a_held_acceleration_wrote() {
+        let held = HeldAcceleration::<3> {
+            acc: SVector::from([1.0, 2.0, 3.0]),
+            lambda: 4.0,
+            pivots: SVector::from([5.0, 6.0, 7.0]),
+            s: 8.0,
+            gradient_norm2: 9.0,
+            w_norm2: 10.0,
+        };
+        let mut flat = Vec::new();
+        held.write(&mut flat);
+        let view = HeldView::<3>::new(&flat);
+        assert_eq!(view.acc(), held.acc.as_slice());
+        assert_eq!(view.lambda(), held.lambda);
+        assert_eq!(view.pivots(), held.pivots.as_slice());
+        assert_eq!(view.acting(), (held.s, held.gradient_norm2, held.w_norm2));
+    }
 
     #[test]
     fn the_factor_solves_a_symmetric_positive_definite_system() {
