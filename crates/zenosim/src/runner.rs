@@ -87,12 +87,12 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
     /// On a constraint, the drift of the step's end put back: `h = 0`, `A q̇ = 0`
     /// ([`Mechanics::project`]). The next step starts there, and the step's dense output ends
     /// there.
-    fn correct_end(&mut self, _t: f64, y: &mut [f64]) -> Result<(), DynamicsError> {
+    fn correct_end(&mut self, _t: f64, y: &mut [f64]) -> Result<bool, DynamicsError> {
         let Some(index) = self.active else {
-            return Ok(());
+            return Ok(false);
         };
         let (q, q_dot) = y.split_at_mut(self.n);
-        self.mech.project(index, q, q_dot).map(|_| ())
+        self.mech.project(index, q, q_dot).map(|_| true)
     }
 }
 

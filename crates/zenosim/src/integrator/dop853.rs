@@ -3,7 +3,7 @@
 
 use super::control::{EvalFailure, Trial};
 use super::dop853_tableau::{A, B, BHH, C, D, ER, STAGES};
-use super::kernels::{all_finite, combine, eval, eval_end, hermite_parts, stage};
+use super::kernels::{all_finite, combine, correct_end, eval, eval_end, hermite_parts, stage};
 use super::{OdeSystem, Stats, Tolerances};
 
 /// Index of the stage holding `f(t + h, y_new)` (stage 13, FSAL).
@@ -119,8 +119,9 @@ fn solution_and_error(w: &Work, tol: Tolerances, h: f64, y: &[f64], y_new: &mut 
 
 /// One trial step of signed size `h` from `(t, y)` to `t_end` (`= t + h`, or
 /// exactly the stopping time). `w.k[0]` must hold `f(t, y)`. On acceptance
-/// `y_new` and `w.k[FSAL] = f(t_end, y_new)` are finite (12 evaluations; a
-/// trial rejected on its error estimate costs 11).
+/// `y_new` (as the system corrected it, [`OdeSystem::correct_end`]) and
+/// `w.k[FSAL] = f(t_end, y_new)` are finite (12 evaluations; a trial rejected on
+/// its error estimate costs 11).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn trial<S: OdeSystem>(
     w: &mut Work,
@@ -142,6 +143,10 @@ pub(super) fn trial<S: OdeSystem>(
     }
     if err > 1.0 {
         return Trial::Rejected(err);
+    }
+    // The error is the unprojected end's; the next step starts from the corrected one.
+    if let Err(failure) = correct_end(sys, t_end, y_new) {
+        return Trial::Failed(failure);
     }
     if let Err(e) = eval_end(sys, stats, t_end, y_new, &mut w.k[FSAL]) {
         return Trial::Failed(EvalFailure::Rhs(e));

@@ -2,7 +2,7 @@
 //! (HNW I, II.5 Table 5.2 and II.6; Hairer's code DOPRI5).
 
 use super::control::{EvalFailure, Trial};
-use super::kernels::{all_finite, combine, eval, eval_end, hermite_parts, stage};
+use super::kernels::{all_finite, combine, correct_end, eval, eval_end, hermite_parts, stage};
 use super::{OdeSystem, Stats, Tolerances};
 
 /// Number of stages including the FSAL stage 7.
@@ -147,7 +147,9 @@ fn error_norm(w: &Work, tol: Tolerances, h: f64, y: &[f64], y_new: &[f64]) -> f6
 
 /// One trial step of signed size `h` from `(t, y)` to `t_end` (`= t + h`, or
 /// exactly the stopping time). `w.k[0]` must hold `f(t, y)`. On acceptance
-/// `y_new` and `w.k[FSAL] = f(t_end, y_new)` are finite (6 evaluations).
+/// `y_new` (as the system corrected it, [`OdeSystem::correct_end`]) and
+/// `w.k[FSAL] = f(t_end, y_new)` are finite (6 evaluations, 7 where the system
+/// corrected the end).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn trial<S: OdeSystem>(
     w: &mut Work,
@@ -165,12 +167,25 @@ pub(super) fn trial<S: OdeSystem>(
     }
     let err = error_norm(w, tol, h, y, y_new);
     if !err.is_finite() {
-        Trial::Failed(EvalFailure::NonFinite)
+        return Trial::Failed(EvalFailure::NonFinite);
     } else if err > 1.0 {
-        Trial::Rejected(err)
-    } else {
-        Trial::Accepted(err)
+        return Trial::Rejected(err);
     }
+    // The error estimate takes `f` at the unprojected end (the seventh stage); where the system
+    // corrects the end, `f` there is evaluated again, at the corrected one (7 evaluations).
+    match correct_end(sys, t_end, y_new) {
+        Err(failure) => return Trial::Failed(failure),
+        Ok(false) => {}
+        Ok(true) => {
+            if let Err(e) = eval_end(sys, stats, t_end, y_new, &mut w.k[FSAL]) {
+                return Trial::Failed(EvalFailure::Rhs(e));
+            }
+            if !all_finite(&w.k[FSAL]) {
+                return Trial::Failed(EvalFailure::NonFinite);
+            }
+        }
+    }
+    Trial::Accepted(err)
 }
 
 /// Builds the 4th-order continuous extension of the accepted step

@@ -5,6 +5,7 @@
 //! elements; every slice is cut to the output length first, which removes the
 //! bounds checks of the element loop.
 
+use super::control::EvalFailure;
 use super::{OdeSystem, Stats};
 
 /// `out = y + h * sum_j a[j] * k[j]` (an explicit Runge–Kutta stage argument).
@@ -94,19 +95,32 @@ pub(super) fn eval<S: OdeSystem>(
     sys.rhs(t, y, dy)
 }
 
-/// [`eval`] at the end of a trial step ([`OdeSystem::rhs_at_end`]), once the system has
-/// corrected the end ([`OdeSystem::correct_end`]).
+/// [`eval`] at the end of a trial step ([`OdeSystem::rhs_at_end`]).
 #[inline(always)]
 pub(super) fn eval_end<S: OdeSystem>(
     sys: &mut S,
     stats: &mut Stats,
     t: f64,
-    y: &mut [f64],
+    y: &[f64],
     dy: &mut [f64],
 ) -> Result<(), S::Error> {
-    sys.correct_end(t, y)?;
     stats.rhs_evals += 1;
     sys.rhs_at_end(t, y, dy)
+}
+
+/// The system's correction of an accepted trial's end `y` ([`OdeSystem::correct_end`]):
+/// whether it changed `y`, which must still be finite.
+#[inline(always)]
+pub(super) fn correct_end<S: OdeSystem>(
+    sys: &mut S,
+    t: f64,
+    y: &mut [f64],
+) -> Result<bool, EvalFailure<S::Error>> {
+    let changed = sys.correct_end(t, y).map_err(EvalFailure::Rhs)?;
+    if changed && !all_finite(y) {
+        return Err(EvalFailure::NonFinite);
+    }
+    Ok(changed)
 }
 
 /// Weighted RMS norm `sqrt(mean((x_i / (atol + rtol |y_i|))^2))` (used by hinit).

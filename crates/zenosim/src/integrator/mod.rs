@@ -87,12 +87,16 @@ pub trait OdeSystem {
         self.rhs(t, y, dy)
     }
 
-    /// Corrects the end `y` of a trial step at `t` that passed its error test, before
-    /// [`OdeSystem::rhs_at_end`] evaluates it: a system whose solutions keep to a manifold puts
-    /// the end back on it, so that the next step starts there and the step's dense output ends
-    /// there. An error fails the trial, as one from `rhs` does. The default leaves `y` as it is.
-    fn correct_end(&mut self, _t: f64, _y: &mut [f64]) -> Result<(), Self::Error> {
-        Ok(())
+    /// Corrects the end `y` of a Runge–Kutta trial step at `t` that passed its error test (the
+    /// error is the uncorrected end's), before [`OdeSystem::rhs_at_end`] evaluates it at the
+    /// step's end: a system whose solutions keep to a manifold puts the end back on it, so that
+    /// the next step starts there and the step's dense output ends there. Returns whether it
+    /// changed `y` (DOPRI5, whose error estimate takes `f` at the uncorrected end, then
+    /// evaluates `f` once more). An error, or a corrected end that is not finite, fails the
+    /// trial as a failed evaluation does. A step in closed form ([`Stepper::step_exact`]) is
+    /// not corrected. The default leaves `y` as it is.
+    fn correct_end(&mut self, _t: f64, _y: &mut [f64]) -> Result<bool, Self::Error> {
+        Ok(false)
     }
 }
 

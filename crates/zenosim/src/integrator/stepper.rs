@@ -385,14 +385,8 @@ impl Stepper {
         }
         let hs = span.signum() * h_abs;
         advance(&self.y, &self.dy, hs, &mut self.y_new);
-        eval_end(
-            sys,
-            &mut self.stats,
-            t_end,
-            &mut self.y_new,
-            &mut self.scratch,
-        )
-        .map_err(|source| StepError::Rhs { t: self.t, source })?;
+        eval_end(sys, &mut self.stats, t_end, &self.y_new, &mut self.scratch)
+            .map_err(|source| StepError::Rhs { t: self.t, source })?;
         if !all_finite(&self.y_new) || !all_finite(&self.scratch) {
             return Err(StepError::NonFinite { t: self.t });
         }

@@ -232,11 +232,24 @@ fn blow_up_returns_an_error_and_never_hangs() {
 }
 
 /// The oscillator kept on its circle `x² + v² = 1` by [`OdeSystem::correct_end`], which
-/// rescales each accepted end onto it (and refuses once `refuse_after` ends were corrected).
+/// rescales each accepted end onto it (and refuses once `refuse_after` ends were corrected);
+/// with `push`, it moves the end off the circle by that much instead.
 struct OnCircle {
     calls: u64,
     corrections: u64,
     refuse_after: u64,
+    push: f64,
+}
+
+impl OnCircle {
+    fn new(refuse_after: u64) -> Self {
+        Self {
+            calls: 0,
+            corrections: 0,
+            refuse_after,
+            push: 0.0,
+        }
+    }
 }
 
 impl OdeSystem for OnCircle {
@@ -250,31 +263,32 @@ impl OdeSystem for OnCircle {
         dy[1] = -y[0];
         Ok(())
     }
-    fn correct_end(&mut self, _t: f64, y: &mut [f64]) -> Result<(), Refused> {
+    fn correct_end(&mut self, _t: f64, y: &mut [f64]) -> Result<bool, Refused> {
         if self.corrections >= self.refuse_after {
             return Err(Refused);
         }
         self.corrections += 1;
-        let r = y[0].hypot(y[1]);
-        y.iter_mut().for_each(|x| *x /= r);
-        Ok(())
+        if self.push != 0.0 {
+            y[0] += self.push;
+        } else {
+            let r = y[0].hypot(y[1]);
+            y.iter_mut().for_each(|x| *x /= r);
+        }
+        Ok(true)
     }
 }
 
 #[test]
 fn a_corrected_end_is_where_the_next_step_starts_and_the_dense_output_ends() {
     for method in METHODS {
-        let mut sys = OnCircle {
-            calls: 0,
-            corrections: 0,
-            refuse_after: u64::MAX,
-        };
+        let mut sys = OnCircle::new(u64::MAX);
         let tol = Tolerances {
             rtol: 1e-6,
             atol: 1e-6,
         };
         let mut st = Stepper::new(method, 2, tol);
-        st.start(&mut sys, 0.0, &[1.0, 0.0], None).unwrap();
+        // A first step far too long: rejected trials, which are not corrected.
+        st.start(&mut sys, 0.0, &[1.0, 0.0], Some(2.0)).unwrap();
         while st.t() < 5.0 {
             let (calls, rejected) = (sys.calls, st.stats().rejected_steps);
             st.step(&mut sys, 5.0, f64::INFINITY).unwrap();
@@ -285,7 +299,9 @@ fn a_corrected_end_is_where_the_next_step_starts_and_the_dense_output_ends() {
                 "{method:?}"
             );
             assert_eq!(st.dy(), &[y[1], -y[0]][..], "{method:?}");
-            let stages = if method == Method::Dop853 { 12 } else { 6 };
+            // DOPRI5's error estimate takes f at the uncorrected end: f once more at the
+            // corrected one.
+            let stages = if method == Method::Dop853 { 12 } else { 7 };
             if st.stats().rejected_steps == rejected {
                 assert_eq!(sys.calls - calls, stages, "{method:?}");
             }
@@ -299,6 +315,7 @@ fn a_corrected_end_is_where_the_next_step_starts_and_the_dense_output_ends() {
                 "{method:?}: dense output ends at the corrected end"
             );
         }
+        assert!(st.stats().rejected_steps > 0, "{method:?}");
         assert_eq!(sys.corrections, st.stats().steps, "{method:?}");
         // Still the oscillator's solution, within the tolerance.
         assert!(
@@ -309,13 +326,44 @@ fn a_corrected_end_is_where_the_next_step_starts_and_the_dense_output_ends() {
 }
 
 #[test]
+fn the_error_test_sees_the_uncorrected_end() {
+    // A correction that moves the end by 1e-3, far beyond the tolerance, changes nothing of
+    // how the first step is tried, rejected, accepted and sized (to the bit), against the same
+    // system without a correction: its error test comes before the correction. (The next steps
+    // start from the moved end.)
+    for method in METHODS {
+        let mut plain_sys = Oscillator { calls: 0 };
+        let mut plain = Stepper::new(method, 2, Tolerances::default());
+        plain
+            .start(&mut plain_sys, 0.0, &[1.0, 0.0], Some(1.0))
+            .unwrap();
+        plain.step(&mut plain_sys, 10.0, f64::INFINITY).unwrap();
+        let mut pushed_sys = OnCircle::new(u64::MAX);
+        pushed_sys.push = 1e-3;
+        let mut pushed = Stepper::new(method, 2, Tolerances::default());
+        pushed
+            .start(&mut pushed_sys, 0.0, &[1.0, 0.0], Some(1.0))
+            .unwrap();
+        pushed.step(&mut pushed_sys, 10.0, f64::INFINITY).unwrap();
+        let step = |st: &Stepper| (st.t(), st.stats().rejected_steps, st.suggested_step());
+        assert!(
+            plain.stats().rejected_steps > 0,
+            "{method:?}: the first trial is rejected"
+        );
+        assert_eq!(step(&plain), step(&pushed), "{method:?}");
+        assert_eq!(
+            pushed_sys.corrections, 1,
+            "{method:?}: the accepted trial only"
+        );
+        assert_eq!(pushed.y()[0], plain.y()[0] + 1e-3, "{method:?}");
+        assert_eq!(pushed.y()[1], plain.y()[1], "{method:?}");
+    }
+}
+
+#[test]
 fn a_refused_correction_fails_the_trial_like_a_refused_evaluation() {
     for method in METHODS {
-        let mut sys = OnCircle {
-            calls: 0,
-            corrections: 0,
-            refuse_after: 3,
-        };
+        let mut sys = OnCircle::new(3);
         let mut st = Stepper::new(method, 2, Tolerances::default());
         st.start(&mut sys, 0.0, &[1.0, 0.0], None).unwrap();
         for _ in 0..3 {
