@@ -105,6 +105,40 @@ fn the_constrained_motion_stays_on_the_surface_and_keeps_its_energy() {
     }
 }
 
+/// DOPRI5 through the same run: each step on the surface is projected after its error test
+/// (its estimate takes `f` at the step's end, before the projection), and the committed states
+/// are on `h = 0`, `A q̇ = 0` to rounding; the Zeno point and the final state agree with
+/// DOP853's to the tolerance.
+#[test]
+fn dopri5_runs_through_the_zeno_point_and_keeps_to_the_surface() {
+    let tol = zenosim::Tolerances {
+        rtol: 1e-8,
+        atol: 1e-8,
+    };
+    let options = |method| SimulationOptions {
+        method,
+        tolerances: tol,
+        ..paper_options()
+    };
+    let (dopri, trajectory) = run_paper(options(zenosim::Method::Dopri5));
+    let (dop853, _) = run_paper(options(zenosim::Method::Dop853));
+    assert_eq!(dopri.outcome, Outcome::Finished);
+    assert_eq!(dopri.zeno.len(), 1);
+    let gap = (dopri.zeno[0].t_zeno - dop853.zeno[0].t_zeno).abs();
+    assert!(gap < 1e-7, "τ∞ {gap:e} apart");
+    let ex = BallOnSine::paper();
+    let derived = Derived::new(&ex.model).unwrap();
+    let mut on_surface = 0;
+    for p in trajectory.points.iter().filter(|p| p.mode != Mode::Free) {
+        let a_q_dot = derived.normal_velocity(0, &p.q, &p.q_dot);
+        assert!(p.h[0].abs() <= 1e-12 && a_q_dot.abs() <= 1e-12, "{p:?}");
+        on_surface += 1;
+    }
+    assert!(on_surface > 20, "{on_surface} states on the surface");
+    let gap = final_state_gap(&dopri, &dop853);
+    assert!(gap < 1e-5, "final states {gap:e} apart");
+}
+
 #[test]
 fn without_completion_the_run_stops_by_itself_near_t_2_04() {
     let (auto, _) = run_paper(paper_options());
