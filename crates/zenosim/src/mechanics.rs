@@ -11,7 +11,7 @@ use crate::derivatives::{constraint_terms, mass_matrix, with_dimension};
 use crate::model::HybridLagrangian;
 use crate::motion::{
     check_pivots, constrained_motion, degenerate, direction, dot, free_motion, held_acceleration,
-    pivots, ConstrainedMotion, Direction, PivotError,
+    pivots, route, ConstrainedMotion, Direction, PivotError, Route,
 };
 
 /// A failure of the mechanics at one state; the caller adds the time and the state.
@@ -222,7 +222,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
 
     /// [`Mechanics::state_derivative`] on a constraint, straight from the outputs of the
     /// model's compiled program for the acceleration held on it, where the motion is compiled
-    /// whole (a constant `M`, as [`held_acceleration`] takes it): the same numbers and checks,
+    /// whole (a constant `M`: [`route`]'s choice, as for [`held_acceleration`]): the same numbers and checks,
     /// without assembling the motion's vectors, once per stage of every step on a constraint.
     /// `None` where there is no such program or it refuses (a witness failed).
     #[inline(always)]
@@ -234,7 +234,9 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         q_ddot: &mut [f64],
     ) -> Option<Result<f64, DynamicsError>> {
         let index = active?;
-        let compiled = self.model.compiled().filter(|c| c.constant_mass())?;
+        let Route::Whole(compiled) = route(self.model) else {
+            return None;
+        };
         compiled.held_view::<N, _>(index, q, q_dot, |held| {
             let (s, gradient_norm2, w_norm2) = held.acting();
             check_acting(held.pivots(), s, gradient_norm2, w_norm2, index)?;

@@ -395,13 +395,13 @@ fn held_from<T: Scalar, const N: usize>(
 /// `M`, force and constraint derivatives with the factorisation and solves done here (where
 /// `M` varies, they cost less here than interpreted). Both give the numbers of the
 /// differentiation, bit for bit.
-enum Route<'c> {
+pub(crate) enum Route<'c> {
     Whole(&'c crate::Compiled),
     Parts(&'c crate::Compiled),
     None,
 }
 
-fn route<L: HybridLagrangian>(model: &L) -> Route<'_> {
+pub(crate) fn route<L: HybridLagrangian>(model: &L) -> Route<'_> {
     match model.compiled() {
         Some(c) if c.constant_mass() => Route::Whole(c),
         Some(c) => Route::Parts(c),
