@@ -9,9 +9,15 @@ use zenosim::{
 };
 use zenosim_model::ModelFile;
 
+/// The version of `summary.json`'s layout, documented in docs/output.md. 2: events list
+/// their `contacts` and `impulses`, Zeno points their `constraints`.
+pub const SCHEMA_VERSION: u32 = 2;
+
 /// The whole summary.
 #[derive(DeriveSerialize)]
 pub struct Summary<'a> {
+    /// The version of this layout ([`SCHEMA_VERSION`]; docs/output.md).
+    pub schema_version: u32,
     /// The model's name.
     pub model: &'a str,
     /// Its description, if any.
@@ -203,6 +209,8 @@ pub struct FinalJson<'a> {
 #[derive(DeriveSerialize)]
 pub struct ZenoJson<'a> {
     pub constraint: &'a str,
+    /// Every constraint of the accumulation: `R∞` puts the state onto all of them.
+    pub constraints: Vec<&'a str>,
     pub kind: &'static str,
     pub t_switch: f64,
     /// The estimate of τ∞.
@@ -219,6 +227,10 @@ pub struct EventJson<'a> {
     pub kind: &'static str,
     pub t: f64,
     pub constraint: &'a str,
+    /// The constraints involved (for an impact, every constraint of the impact law).
+    pub contacts: Vec<&'a str>,
+    /// For an impact, the impulse on each of `contacts` (pushing, ≥ 0); else empty.
+    pub impulses: &'a [f64],
     pub before: StateJson<'a>,
     pub after: StateJson<'a>,
 }
@@ -278,6 +290,7 @@ impl<'a> Record<'a> {
         let file = self.file;
         use zenosim::HybridLagrangian as _;
         Summary {
+            schema_version: SCHEMA_VERSION,
             model: &file.name,
             description: file.description.as_deref(),
             status: status(&run.outcome),
@@ -316,6 +329,7 @@ impl<'a> Record<'a> {
             },
             zeno: Lazy::new(&run.zeno, move |z| ZenoJson {
                 constraint: name(z.constraint),
+                constraints: active_names(z.constraints, names),
                 kind: z.kind.name(),
                 t_switch: z.t_switch,
                 t_zeno: z.t_zeno,
@@ -327,6 +341,8 @@ impl<'a> Record<'a> {
                 kind: e.kind.name(),
                 t: e.t,
                 constraint: name(e.constraint),
+                contacts: active_names(e.contacts, names),
+                impulses: &e.impulses,
                 before: (&e.before).into(),
                 after: (&e.after).into(),
             }),

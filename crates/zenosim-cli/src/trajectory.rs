@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::io;
 
-use zenosim::{Event, Observer, Sample};
+use zenosim::{Event, Mode, Observer, Sample};
 
 use crate::progress::Progress;
 
@@ -18,10 +18,15 @@ pub struct TrajectoryWriter<W: io::Write> {
     rows: u64,
     error: Option<io::Error>,
     progress: Progress,
+    /// The constraints' names, for the held set in the `mode` column.
+    constraints: Vec<String>,
+    mode: String,
 }
 
 impl<W: io::Write> TrajectoryWriter<W> {
-    /// A writer of the columns `t,mode,<q...>,<q_dot...>,h_<c>...,lambda_<c>...,energy`.
+    /// A writer of the columns `t,mode,<q...>,<q_dot...>,h_<c>...,lambda_<c>...,energy`;
+    /// `mode` is `free`, or `constrained:` and the names of the constraints held, joined by `+`
+    /// (`constrained:floor+wall`).
     pub fn new(
         out: W,
         coordinates: &[String],
@@ -38,6 +43,8 @@ impl<W: io::Write> TrajectoryWriter<W> {
             rows: 0,
             error: None,
             progress,
+            constraints: constraints.to_vec(),
+            mode: String::new(),
         };
         let header = ["t", "mode"]
             .into_iter()
@@ -81,7 +88,16 @@ impl<W: io::Write> TrajectoryWriter<W> {
 
     fn row(&mut self, s: &Sample<'_>) -> csv::Result<()> {
         self.field(s.t)?;
-        self.csv.write_field(s.mode.name())?;
+        self.mode.clear();
+        self.mode.push_str(s.mode.name());
+        if let Mode::Constrained(set) = s.mode {
+            for (k, index) in set.iter().enumerate() {
+                self.mode.push(if k == 0 { ':' } else { '+' });
+                self.mode
+                    .push_str(self.constraints.get(index).map_or("?", String::as_str));
+            }
+        }
+        self.csv.write_field(self.mode.as_bytes())?;
         for &x in s.q.iter().chain(s.q_dot).chain(s.h).chain(s.lambda) {
             self.field(x)?;
         }
@@ -186,7 +202,7 @@ mod tests {
         assert_eq!(
             text,
             "t,mode,x,y,x_dot,y_dot,h_floor,h_left wall,lambda_floor,lambda_left wall,energy\n\
-             0.5,constrained,1,2e-20,-0.25,0,1,0,0,-9.81,NaN\n"
+             0.5,constrained:left wall,1,2e-20,-0.25,0,1,0,0,-9.81,NaN\n"
         );
     }
 }

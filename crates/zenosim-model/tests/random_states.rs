@@ -327,7 +327,69 @@ fn ball_off_cylinder(file: &ModelFile, u: &[f64; 8]) -> State {
     (vec![x, y], v)
 }
 
-const SPECS: [Spec; 6] = [
+/// The corner: anywhere in twice the drop box, at up to the wall's and the floor's own impact
+/// speeds, either way.
+fn corner(file: &ModelFile, u: &[f64; 8]) -> State {
+    let (x0, y0) = (parameter(file, "x0"), parameter(file, "y0"));
+    let (gx, gy) = (parameter(file, "gx"), parameter(file, "gy"));
+    let (sx, sy) = ((2.0 * gx * x0).sqrt(), (2.0 * gy * y0).sqrt());
+    (
+        vec![2.0 * x0 * u[0], 2.0 * y0 * u[1]],
+        vec![lerp(u[2], -sx, sx), lerp(u[3], -sy, sy)],
+    )
+}
+
+/// The floor and the wall: between the wall and twice its distance behind, up to a metre
+/// high, at up to twice the shipped speed.
+fn floor_and_wall(file: &ModelFile, u: &[f64; 8]) -> State {
+    let (d, v0) = (parameter(file, "d"), parameter(file, "v0"));
+    (
+        vec![lerp(u[0], -d, d), u[1]],
+        vec![lerp(u[2], -2.0 * v0, 2.0 * v0), lerp(u[3], -2.0, 2.0)],
+    )
+}
+
+/// The rocking block: tilted up to 0.3 either way, its lower corner up to 0.2 above the floor,
+/// rocking at up to 3 rad/s and moving at up to 1 m/s.
+fn rocking_block(file: &ModelFile, u: &[f64; 8]) -> State {
+    let (b, c) = (parameter(file, "b"), parameter(file, "c"));
+    let theta = lerp(u[0], -0.3, 0.3);
+    let y = c * theta.cos() + b * theta.sin().abs() + 0.2 * u[1];
+    (
+        vec![lerp(u[2], -1.0, 1.0), y, theta],
+        vec![
+            lerp(u[3], -1.0, 1.0),
+            lerp(u[4], -1.0, 1.0),
+            lerp(u[5], -3.0, 3.0),
+        ],
+    )
+}
+
+/// Newton's cradle: gaps of up to half a diameter, speeds up to 1 either way.
+fn newtons_cradle(file: &ModelFile, u: &[f64; 8]) -> State {
+    let d = parameter(file, "d");
+    let x1 = u[0];
+    let x2 = x1 + d + 0.5 * d * u[1];
+    let x3 = x2 + d + 0.5 * d * u[2];
+    let v = |k: usize| lerp(u[k], -1.0, 1.0);
+    (vec![x1, x2, x3], vec![v(3), v(4), v(5)])
+}
+
+/// The double pendulum: the first link from the stop to horizontal, the second anywhere its
+/// tip clears the ground, at up to 2 rad/s each.
+fn double_pendulum_stop(file: &ModelFile, u: &[f64; 8]) -> State {
+    let (ths, h) = (parameter(file, "ths"), parameter(file, "H"));
+    let (l1, l2) = (parameter(file, "l1"), parameter(file, "l2"));
+    let th1 = lerp(u[0], ths, FRAC_PI_2);
+    let lowest = ((h - l1 * th1.cos()) / l2).clamp(-1.0, 1.0).acos();
+    let th2 = lerp(u[1], lowest, std::f64::consts::PI - 1e-3) * if u[2] < 0.5 { -1.0 } else { 1.0 };
+    (
+        vec![th1, th2],
+        vec![lerp(u[3], -2.0, 2.0), lerp(u[4], -2.0, 2.0)],
+    )
+}
+
+const SPECS: [Spec; 11] = [
     Spec {
         file: "ball-off-cylinder.toml",
         base: ball_off_cylinder,
@@ -356,6 +418,36 @@ const SPECS: [Spec; 6] = [
         file: "cart-pendulum.toml",
         base: cart_pendulum,
         seed: 5,
+        closest: None,
+    },
+    Spec {
+        file: "corner.toml",
+        base: corner,
+        seed: 7,
+        closest: None,
+    },
+    Spec {
+        file: "double-pendulum-stop.toml",
+        base: double_pendulum_stop,
+        seed: 8,
+        closest: None,
+    },
+    Spec {
+        file: "floor-and-wall.toml",
+        base: floor_and_wall,
+        seed: 9,
+        closest: None,
+    },
+    Spec {
+        file: "newtons-cradle.toml",
+        base: newtons_cradle,
+        seed: 10,
+        closest: None,
+    },
+    Spec {
+        file: "rocking-block.toml",
+        base: rocking_block,
+        seed: 11,
         closest: None,
     },
     Spec {
@@ -897,6 +989,31 @@ fn bouncing_ball_random_states() {
 #[test]
 fn cart_pendulum_random_states() {
     check_model("cart-pendulum.toml");
+}
+
+#[test]
+fn corner_random_states() {
+    check_model("corner.toml");
+}
+
+#[test]
+fn double_pendulum_stop_random_states() {
+    check_model("double-pendulum-stop.toml");
+}
+
+#[test]
+fn floor_and_wall_random_states() {
+    check_model("floor-and-wall.toml");
+}
+
+#[test]
+fn newtons_cradle_random_states() {
+    check_model("newtons-cradle.toml");
+}
+
+#[test]
+fn rocking_block_random_states() {
+    check_model("rocking-block.toml");
 }
 
 #[test]

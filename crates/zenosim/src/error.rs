@@ -110,15 +110,23 @@ pub enum Error {
         /// The step size reached.
         h: f64,
     },
-    /// Two contacts at once.
-    #[error("at t = {}: constraints '{first}' and '{second}' are in contact at the same time; simultaneous contacts are not supported yet: change the initial state or the geometry so that the contacts come one at a time", Readable(*t))]
-    SimultaneousContact {
+    /// The gradients of constraints that have to act together are dependent (the Delassus
+    /// matrix `A M⁻¹ Aᵀ` of the set is singular): the contact forces are not determined.
+    #[error("at t = {}: constraints {} act together but their gradients ∂h/∂q are dependent (the same surface written twice, or more closed constraints than coordinates), so their contact forces are not determined: remove the redundant constraint or change the geometry", Readable(*t), quoted(constraints))]
+    DependentConstraints {
         /// When.
         t: f64,
-        /// One constraint.
-        first: String,
-        /// The other.
-        second: String,
+        /// The constraints of the set.
+        constraints: Vec<String>,
+    },
+    /// The contact problem (the impact law or the contact forces on a set) has no solution that
+    /// Lemke's method finds.
+    #[error("at t = {}: the contact problem on constraints {} has no solution (Lemke's method ended on a ray): their gradients are dependent in a way no force balances; remove the redundant constraint or change the geometry", Readable(*t), quoted(constraints))]
+    ContactProblem {
+        /// When.
+        t: f64,
+        /// The constraints of the set.
+        constraints: Vec<String>,
     },
     /// The projection onto `h = 0` did not converge.
     #[error("at t = {}: projecting onto constraint '{constraint}' left |h| = {residual:e}; h = 0 may be singular or unreachable here: write h so that ∂h/∂q does not vanish on h = 0, or use the default completion (the general projection)", Readable(*t))]
@@ -177,6 +185,16 @@ fn limit_message(t: f64, what: &str, limit: u64, recent: Option<(u64, f64)>) -> 
                  check the constraints' geometry";
     }
     text
+}
+
+/// `'a', 'b' and 'c'`.
+fn quoted(names: &[String]) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("'{n}'")).collect();
+    match quoted.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+        None => String::new(),
+    }
 }
 
 #[cfg(test)]

@@ -3,9 +3,8 @@
 
 use crate::error::Error;
 
-/// The set of active constraints (a bit set over constraint indices, at most 64 constraints).
-///
-/// Only one constraint is active at a time for now; the type is ready for several.
+/// A set of constraints (a bit set over constraint indices, at most 64 constraints): the
+/// constraints held in a constrained mode, or those involved in an event or a Zeno point.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct ActiveSet(u64);
 
@@ -25,6 +24,26 @@ impl ActiveSet {
             "ActiveSet holds constraints 0 to 63"
         );
         Self(1 << index)
+    }
+
+    /// The set with constraint `index` added (panics unless `index < 64`).
+    pub const fn with(self, index: usize) -> Self {
+        Self(self.0 | Self::single(index).0)
+    }
+
+    /// The constraints in either set.
+    pub const fn union(self, other: Self) -> Self {
+        Self(self.0 | other.0)
+    }
+
+    /// The constraints of `self` not in `other`.
+    pub const fn minus(self, other: Self) -> Self {
+        Self(self.0 & !other.0)
+    }
+
+    /// Whether every constraint of `self` is in `other`.
+    pub const fn is_subset(self, other: Self) -> bool {
+        self.0 & !other.0 == 0
     }
 
     /// Whether no constraint is active.
@@ -121,8 +140,16 @@ pub struct Event {
     pub kind: EventKind,
     /// When it happened.
     pub t: f64,
-    /// The constraint involved.
+    /// The constraint that caused it: the one reached (impact), whose accumulation ended
+    /// (Zeno), or that let go (lift-off).
     pub constraint: usize,
+    /// Every constraint involved: for an impact, those in the impact law (the one reached, and
+    /// every other closed one: `h = 0`, `A q̇⁻ ≤ 0`); for a switch, those `R∞` projects onto;
+    /// for a lift-off, those that let go.
+    pub contacts: ActiveSet,
+    /// For an impact, the impulse `Λᵢ ≥ 0` (pushing) on each constraint of `contacts`, in
+    /// increasing index order: `M (q̇⁺ − q̇⁻) = Σ Aᵢᵀ Λᵢ`. Empty for other events.
+    pub impulses: Vec<f64>,
     /// The state just before.
     pub before: State,
     /// The state just after.
@@ -151,15 +178,18 @@ impl ZenoKind {
 /// A Zeno point that the execution reached and passed (or stalled at, with `ZenoStrategy::Off`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ZenoPoint {
-    /// The constraint whose impacts accumulate.
+    /// The constraint of the accumulation's last impact.
     pub constraint: usize,
+    /// Every constraint of the accumulation (the constraints whose impacts accumulate, and
+    /// those held meanwhile): `R∞` puts the state onto all of them.
+    pub constraints: ActiveSet,
     /// Chattering or genuinely Zeno.
     pub kind: ZenoKind,
     /// When the simulation switched to the constrained motion (or stopped).
     pub t_switch: f64,
     /// The estimate of the Zeno time `τ∞`.
     pub t_zeno: f64,
-    /// Impacts on this constraint in the accumulating sequence.
+    /// Impacts in the accumulating sequence.
     pub impacts: usize,
     /// The measured ratio of successive flight times: the geometric mean over the last six
     /// flights of the sequence (→ `e` for a genuine Zeno execution).
@@ -233,7 +263,8 @@ pub struct Execution {
 }
 
 impl Execution {
-    /// The times of the impacts on constraint `index`.
+    /// The times of the impacts that reached constraint `index` (the constraints held at an
+    /// impact take part in it too, in [`Event::contacts`], but do not count here).
     pub fn impact_times(&self, index: usize) -> Vec<f64> {
         self.events
             .iter()

@@ -25,12 +25,14 @@
 //! - [`models`]: the paper's examples, written in Rust.
 
 mod compiled;
+mod contact;
 mod derivatives;
 mod derived;
 mod error;
 pub mod events;
 mod execution;
 pub mod integrator;
+pub mod lcp;
 mod mechanics;
 mod model;
 pub mod models;

@@ -8,6 +8,7 @@
 //! - impact `q̇⁺ = q̇ − (1+e) (A q̇)/(A M⁻¹ Aᵀ) M⁻¹ Aᵀ`, so `A q̇⁺ = −e A q̇⁻`.
 
 use crate::derivatives::{constraint_terms, mass_matrix, with_dimension};
+use crate::execution::ActiveSet;
 use crate::model::HybridLagrangian;
 use crate::motion::{
     check_pivots, constrained_motion, degenerate, direction, dot, free_motion, held_acceleration,
@@ -26,6 +27,12 @@ pub(crate) enum DynamicsError {
     /// The right-hand side is not finite.
     #[error("a non-finite value")]
     NonFinite,
+    /// The Delassus matrix of a set of constraints is singular: dependent gradients.
+    #[error("the constraints {constraints:?} have dependent gradients")]
+    DependentConstraints { constraints: ActiveSet },
+    /// The contact problem on a set has no solution that Lemke's method finds.
+    #[error("the contact problem on {constraints:?} has no solution")]
+    ContactProblem { constraints: ActiveSet },
     /// Newton's method did not bring `h` to zero.
     #[error("the projection onto constraint {constraint} left |h| = {residual}")]
     Projection { constraint: usize, residual: f64 },

@@ -5,6 +5,7 @@
 //! root on the dense output, save the state before, apply the effect, save the state after,
 //! restart the integrator from there (its caches are rebuilt).
 
+use crate::contact::{self, Contacts};
 use crate::derivatives::{energy, guard_along};
 use crate::error::Error;
 use crate::events::{first_crossing, time_resolution};
@@ -18,7 +19,7 @@ use crate::model::HybridLagrangian;
 use crate::observer::{Observer, Sample};
 use crate::options::{Completion, OutputGrid, ZenoStrategy};
 use crate::simulation::Simulation;
-use crate::zeno::{ImpactSequence, Prediction};
+use crate::zeno::{Accumulation, ImpactSequence, Prediction};
 
 /// Events in a row that may not advance time before the run treats them as chattering.
 const STUCK_EVENTS: usize = 32;
@@ -50,7 +51,10 @@ fn interpolate(stepper: &Stepper, cubic: bool, t: f64, out: &mut [f64]) {
 /// The equations of motion of one mode, as the integrator sees them: `y = (q, q̇)`.
 struct Equations<'a, L> {
     mech: Mechanics<'a, L>,
+    /// The constraint held, where exactly one is.
     active: Option<usize>,
+    /// The constraints held, where two or more are (else empty).
+    set: ActiveSet,
     n: usize,
     /// The active constraint's normal response at the end of the last trial step, and its
     /// time: after an accepted step, at the step's end ([`OdeSystem::rhs_at_end`]).
@@ -65,7 +69,12 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
     }
 
     fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
-        self.mech.state_derivative(y, self.active, dy).map(|_| ())
+        if self.set.is_empty() {
+            return self.mech.state_derivative(y, self.active, dy).map(|_| ());
+        }
+        let (q, q_dot) = y.split_at(self.n);
+        dy[..self.n].copy_from_slice(q_dot);
+        contact::held_acceleration(&self.mech, self.set, q, q_dot, &mut dy[self.n..]).map(|_| ())
     }
 
     /// On a constraint, the acceleration and the normal response from one evaluation of the
@@ -88,11 +97,12 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
     /// ([`Mechanics::project`]). The next step starts there, and the step's dense output ends
     /// there.
     fn correct_end(&mut self, _t: f64, y: &mut [f64]) -> Result<bool, DynamicsError> {
-        let Some(index) = self.active else {
-            return Ok(false);
-        };
         let (q, q_dot) = y.split_at_mut(self.n);
-        self.mech.project(index, q, q_dot).map(|_| true)
+        match self.active {
+            Some(index) => self.mech.project(index, q, q_dot).map(|_| true),
+            None if self.set.is_empty() => Ok(false),
+            None => contact::project(&self.mech, self.set, q, q_dot).map(|_| true),
+        }
     }
 }
 
@@ -114,12 +124,17 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     impacts: u64,
     spurious: u64,
     sequence: ImpactSequence,
+    /// The impacts of a sequence that may accumulate over several constraints.
+    accumulation: Accumulation,
     last_event_t: f64,
     stuck: usize,
     /// The largest next step, from the predicted flight after an impact.
     flight_bound: f64,
     /// [`Normal::lift_margin`] of the active constraint at the start of the current step.
     lift_margin_start: f64,
+    /// On two or more constraints, the largest of their lift margins
+    /// ([`Contacts::lift_margins`]) at the start of the current step.
+    set_margin_start: f64,
     /// The next time on a uniform output grid.
     next_output: f64,
     wants_samples: bool,
@@ -169,10 +184,12 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             impacts: 0,
             spurious: 0,
             sequence: ImpactSequence::default(),
+            accumulation: Accumulation::default(),
             last_event_t: f64::NEG_INFINITY,
             stuck: 0,
             flight_bound: f64::INFINITY,
             lift_margin_start: 0.0,
+            set_margin_start: 0.0,
             next_output: 0.0,
             parabolic: sim.model.parabolic_flight(),
             cubic: false,
@@ -236,11 +253,13 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             self.cubic = self.parabolic_step();
             let next = match self.mode {
                 Mode::Free => self.after_free_step()?,
-                Mode::Constrained(active) => {
-                    let index = active.only().expect("one active constraint at a time");
-                    let end = eqs.end.filter(|&(t, _)| t == self.stepper.t());
-                    self.after_constrained_step(index, end.map(|(_, normal)| normal))?
-                }
+                Mode::Constrained(active) => match active.only() {
+                    Some(index) => {
+                        let end = eqs.end.filter(|&(t, _)| t == self.stepper.t());
+                        self.after_constrained_step(index, end.map(|(_, normal)| normal))?
+                    }
+                    None => self.after_set_step(active)?,
+                },
             };
             if let Next::Stop(outcome) = next {
                 return Ok(outcome);
@@ -250,14 +269,25 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
     }
 
     fn equations(&self) -> Equations<'a, L> {
+        let held = self.held();
         Equations {
             mech: self.mech,
-            active: match self.mode {
-                Mode::Free => None,
-                Mode::Constrained(active) => active.only(),
+            active: held.only(),
+            set: if held.len() >= 2 {
+                held
+            } else {
+                ActiveSet::empty()
             },
             n: self.n,
             end: None,
+        }
+    }
+
+    /// The constraints held in the current mode.
+    fn held(&self) -> ActiveSet {
+        match self.mode {
+            Mode::Free => ActiveSet::empty(),
+            Mode::Constrained(set) => set,
         }
     }
 
@@ -336,7 +366,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let (t0, t1) = (self.stepper.t_previous(), self.stepper.t());
         // The step that found the crossing (before `state_at` steps again to it).
         let found = t1 - t0;
-        let Some((index, t_event)) = self.earliest_crossing(t0, t1, None)? else {
+        let Some((index, t_event)) = self.earliest_crossing(t0, t1, ActiveSet::empty())? else {
             self.commit_step()?;
             return Ok(Next::Continue);
         };
@@ -365,16 +395,15 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let n = self.n;
         let y = self.y.clone();
         let (q, q_dot) = y.split_at(n);
+        // The first contact; the others at the surface join it in the impact law.
         let mut contact = None;
         for index in 0..self.sim.model.constraints().len() {
             let (h, _, _) = guard_along(self.sim.model, index, q, q_dot);
             if h > 0.0 || leaving(&self.normal(index, self.t, q, q_dot)?) {
                 continue;
             }
-            if let Some(other) = contact {
-                return Err(self.simultaneous(self.t, other, index));
-            }
             contact = Some(index);
+            break;
         }
         match contact {
             Some(index) => {
@@ -433,9 +462,43 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 _ => hint.min(found),
             };
             self.restart(t_event, &before, Some(hint))?;
+            self.enter_mode(t_event)?;
             return Ok(Next::Continue);
         }
+        let closed = self.closed_set(index, t_event, &before)?;
+        if closed.len() > 1 {
+            return self.impact_set(index, closed, t_event, before, hint);
+        }
         self.impact(index, t_event, before, normal, hint)
+    }
+
+    /// The constraints in the impact law when constraint `index` is reached at `t` in the state
+    /// `y` (docs/contact-laws.md, law 2): `index`, the constraints held, and every other
+    /// constraint closed or closing there, with `h` within the position tolerance and `A q̇`
+    /// not positive beyond its rounding.
+    fn closed_set(&mut self, index: usize, t: f64, y: &[f64]) -> Result<ActiveSet, Error> {
+        let mut set = self.held().with(index);
+        let m = self.sim.model.constraints().len();
+        let tol = self.sim.options.tolerances;
+        let (q, q_dot) = y.split_at(self.n);
+        let start = set;
+        for other in (0..m).filter(|&i| !start.contains(i)) {
+            let mut gradient = std::mem::take(&mut self.scratch);
+            let h = self.mech.constraint_gradient(other, q, &mut gradient);
+            let norm = gradient[..self.n].iter().map(|a| a * a).sum::<f64>().sqrt();
+            let scale = guard_scale(h, &gradient[..self.n], q) / norm;
+            self.scratch = gradient;
+            let q_tol = tol.atol + tol.rtol * if scale.is_finite() { scale } else { 0.0 };
+            let close = h <= q_tol * norm;
+            if !close {
+                continue;
+            }
+            let normal = self.normal(other, t, q, q_dot)?;
+            if normal.a_q_dot <= normal.a_q_dot_round_off {
+                set = set.with(other);
+            }
+        }
+        Ok(set)
     }
 
     /// The size of the coordinates as constraint `index` weighs them, `(|h| + Σ|A_i q_i|)/|A|`,
@@ -507,43 +570,35 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         Ok(self.stepper.y().to_vec())
     }
 
-    /// The earliest crossing of any guard (except `skip`) in `[t0, t1]`, on the dense output.
+    /// The earliest crossing of any guard (except those `held`) in `[t0, t1]`, on the dense
+    /// output, its samples put back onto the held constraints. Other constraints at the surface
+    /// there join the impact law ([`Runner::closed_set`]).
     fn earliest_crossing(
         &mut self,
         t0: f64,
         t1: f64,
-        skip: Option<usize>,
+        held: ActiveSet,
     ) -> Result<Option<(usize, f64)>, Error> {
         let m = self.sim.model.constraints().len();
-        if (0..m).all(|i| Some(i) == skip) {
+        if (0..m).all(|i| held.contains(i)) {
             return Ok(None);
         }
         self.dense()?;
         let cubic = self.cubic;
-        let constrained = !matches!(self.mode, Mode::Free);
         let mut found: Option<(usize, f64)> = None;
-        for index in (0..m).filter(|&i| Some(i) != skip) {
+        for index in (0..m).filter(|&i| !held.contains(i)) {
             let (stepper, mech, n) = (&self.stepper, self.mech, self.n);
             let mut y = std::mem::take(&mut self.scratch);
-            let active = skip;
             let crossing = first_crossing(t0, t1, |t| {
                 interpolate(stepper, cubic, t, &mut y);
-                if let (true, Some(a)) = (constrained, active) {
-                    let (q, q_dot) = y.split_at_mut(n);
-                    // Best effort: a failed projection just leaves the sample as it is.
-                    let _ = mech.project(a, q, q_dot);
-                }
+                // Best effort: a failed projection just leaves the sample as it is.
+                let _ = project_onto(&mech, held, n, &mut y);
                 let (h, h_dot, _) = guard_along(mech.model(), index, &y[..n], &y[n..]);
                 (h, Some(h_dot))
             });
             self.scratch = y;
             if let Some(c) = crossing {
                 let t = c.t_admissible;
-                if let Some((other, t_other)) = found {
-                    if (t - t_other).abs() <= time_resolution(t) * 1e3 {
-                        return Err(self.simultaneous(t.min(t_other), other, index));
-                    }
-                }
                 if found.is_none_or(|(_, t_other)| t < t_other) {
                     found = Some((index, t));
                 }
@@ -565,7 +620,14 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         if let ZenoStrategy::Epsilon(eps) = self.sim.options.zeno {
             // The paper's rule, on the state just before the impact.
             // The crossing is replaced by R∞: it is no impact, and not counted as one.
-            if h.abs() <= eps && normal.a_q_dot.abs() <= eps {
+            let alternating = self.accumulation.constraints().with(index);
+            if alternating.len() > 1 {
+                // An accumulation over several constraints: the rule on all of them.
+                if self.epsilon_met(alternating, &before, eps)? {
+                    let p = self.accumulation.predict();
+                    return self.switch_set(index, alternating, t, before, p);
+                }
+            } else if h.abs() <= eps && normal.a_q_dot.abs() <= eps {
                 let round_off = (e * normal.a_q_dot_round_off, normal.h_ddot_round_off);
                 let prediction =
                     Prediction::new(-e * normal.a_q_dot, normal.h_ddot_free, e, round_off);
@@ -579,9 +641,28 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 .impact(index, e, q, q_dot)
                 .map_err(|err| self.fail_dynamics(err, t, &before))?;
         }
-        self.record_event(EventKind::Impact, index, t, &before, &after, Mode::Free)?;
+        let impulse = -(1.0 + e) * normal.a_q_dot / normal.s;
+        let contacts = ActiveSet::single(index);
+        let change = (contacts, vec![impulse]);
+        self.record_event(
+            EventKind::Impact,
+            index,
+            change,
+            t,
+            &before,
+            &after,
+            Mode::Free,
+        )?;
         self.impacts += 1;
         self.sequence.record(index, t);
+        self.accumulation.record(index, t);
+        if self.accumulation.constraints().len() > 1 {
+            // Impacts alternating between constraints (a groove's walls).
+            let involved = ActiveSet::single(index);
+            if let Some(next) = self.accumulation_resolved(index, involved, t, &after)? {
+                return Ok(next);
+            }
+        }
         let (q, q_dot) = after.split_at(self.n);
         let post = self.normal(index, t, q, q_dot)?;
         let round_off = (post.a_q_dot_round_off, post.h_ddot_round_off);
@@ -645,7 +726,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             return Ok(true);
         }
         let n = self.n;
-        let (q, q_dot) = y.split_at(n);
+        let q = &y[..n];
         // Round-off floor of the guard: the rounding of h = h(q) as the coordinates round.
         let mut gradient = std::mem::take(&mut self.scratch);
         let h = self.mech.constraint_gradient(index, q, &mut gradient);
@@ -658,7 +739,14 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         if ulps < AUTO_ROUND_OFF_ULPS {
             return Ok(false);
         }
-        // Time resolution of the integration at the post-impact state.
+        Ok(p.remaining * self.resolution_rate(t, y)? <= 1.0)
+    }
+
+    /// The rate `‖ẋ‖` of the state `y` in the integrator's own weighted error norm: motion for
+    /// less than `1/rate` moves the state by less than the tolerance.
+    fn resolution_rate(&mut self, t: f64, y: &[f64]) -> Result<f64, Error> {
+        let n = self.n;
+        let (q, q_dot) = y.split_at(n);
         let tol = self.sim.options.tolerances;
         let mut acc = std::mem::take(&mut self.scratch);
         let free = self.mech.acceleration(q, q_dot, None, &mut acc[..n]);
@@ -671,8 +759,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             .sum();
         self.scratch = acc;
         free.map_err(|err| self.dynamics_error(err, t, y))?;
-        let rate = (acc_rate / (2 * n) as f64).sqrt();
-        Ok(p.remaining * rate <= 1.0)
+        Ok((acc_rate / (2 * n) as f64).sqrt())
     }
 
     /// Genuine when the flights measured so far shrink geometrically (positive intervals), or
@@ -696,13 +783,25 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         self.stuck >= STUCK_EVENTS
     }
 
-    /// Impacts that no longer advance time: a chattering contact. Switch, or stall with `Off`.
+    /// Impacts that no longer advance time: a chattering contact. Switch, or stall with `Off`;
+    /// onto every constraint of the accumulation and those held, where that is more than one.
     fn stuck_at(&mut self, index: usize, t: f64, y: &[f64]) -> Result<Next, Error> {
         let e = self.sim.model.constraints()[index].restitution;
         let p = Prediction {
             next_flight: 0.0,
             remaining: 0.0,
         };
+        let all = self
+            .accumulation
+            .constraints()
+            .union(self.held())
+            .with(index);
+        if all.len() > 1 {
+            return match self.sim.options.zeno {
+                ZenoStrategy::Off => Ok(self.stall_set(index, all, t, y, p)),
+                _ => self.switch_set(index, all, t, y.to_vec(), Some(p)),
+            };
+        }
         match self.sim.options.zeno {
             ZenoStrategy::Off => Ok(self.stall(index, t, y, p, e)),
             _ => self.switch(index, t, y.to_vec(), Some(p), e),
@@ -713,6 +812,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let t_zeno = t + p.remaining;
         self.zeno.push(ZenoPoint {
             constraint: index,
+            constraints: ActiveSet::single(index),
             kind: self.zeno_kind(&p, e, t),
             t_switch: t,
             t_zeno,
@@ -763,6 +863,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         };
         self.zeno.push(ZenoPoint {
             constraint: index,
+            constraints: ActiveSet::single(index),
             kind,
             t_switch: t,
             t_zeno: t + remaining,
@@ -771,9 +872,11 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             point: split(&after, self.n),
         });
         self.sequence.clear();
+        self.accumulation.clear();
         self.record_event(
             EventKind::Zeno,
             index,
+            (ActiveSet::single(index), Vec::new()),
             t,
             &before,
             &after,
@@ -796,9 +899,9 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
     fn after_constrained_step(&mut self, index: usize, end: Option<Normal>) -> Result<Next, Error> {
         let (t0, t1) = (self.stepper.t_previous(), self.stepper.t());
         let n = self.n;
-        // Another constraint reached while this one is active: a simultaneous contact.
-        if let Some((other, t)) = self.earliest_crossing(t0, t1, Some(index))? {
-            return Err(self.simultaneous(t, index, other));
+        // Another constraint reached while this one holds: an impact on both.
+        if let Some((other, t)) = self.earliest_crossing(t0, t1, ActiveSet::single(index))? {
+            return self.reached_while_held(other, t);
         }
         // Lift-off: the constraint lets go where it would have to pull (λ above its rounding
         // error; a contact without force holds), reported on the side where it pulls, where free
@@ -827,7 +930,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 let margin = mech
                     .normal(index, q, q_dot, &mut w)
                     .map_or(f64::NAN, |normal| normal.lift_margin());
-                (-margin, None)
+                (lift_guard(margin), None)
             });
             self.scratch = y;
             self.w = w;
@@ -852,9 +955,471 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
     }
 
     fn liftoff(&mut self, index: usize, t: f64, state: Vec<f64>) -> Result<Next, Error> {
-        self.record_event(EventKind::Liftoff, index, t, &state, &state, Mode::Free)?;
+        let change = (ActiveSet::single(index), Vec::new());
+        self.record_event(
+            EventKind::Liftoff,
+            index,
+            change,
+            t,
+            &state,
+            &state,
+            Mode::Free,
+        )?;
         self.sequence.clear();
+        self.accumulation.clear();
         self.restart(t, &state, None)?;
+        Ok(Next::Continue)
+    }
+
+    // ----- several contacts --------------------------------------------------------------
+
+    /// After a restart in the current mode: the lift-off test's margins at the mode's start.
+    fn enter_mode(&mut self, t: f64) -> Result<(), Error> {
+        let held = self.held();
+        let y = self.y.clone();
+        let (q, q_dot) = y.split_at(self.n);
+        if let Some(index) = held.only() {
+            self.lift_margin_start = self.normal(index, t, q, q_dot)?.lift_margin();
+        } else if !held.is_empty() {
+            self.set_margin_start = self.set_margin(held, t, &y)?;
+        }
+        Ok(())
+    }
+
+    /// The largest lift margin of the constraints held in `set` at `(t, y)`: positive where one
+    /// of them would have to pull.
+    fn set_margin(&mut self, set: ActiveSet, t: f64, y: &[f64]) -> Result<f64, Error> {
+        let (q, q_dot) = y.split_at(self.n);
+        let mut acc = vec![0.0; self.n];
+        let held = contact::held_acceleration(&self.mech, set, q, q_dot, &mut acc);
+        let (contacts, lambda) = held.map_err(|err| self.fail_dynamics(err, t, y))?;
+        let factor = contacts
+            .factor()
+            .map_err(|err| self.fail_dynamics(err, t, y))?;
+        let margins = contacts.lift_margins(&factor, &lambda);
+        Ok(margins.into_iter().fold(f64::NEG_INFINITY, f64::max))
+    }
+
+    /// Constraint `other` reached at about `t` while the current mode holds others: the state
+    /// there, on the held constraints and on `other`'s admissible side, is a crossing.
+    fn reached_while_held(&mut self, other: usize, t: f64) -> Result<Next, Error> {
+        let found = self.stepper.t() - self.stepper.t_previous();
+        self.emit_grid_before(t)?;
+        let hint = self.stepper.suggested_step();
+        let before = self.state_at(t)?;
+        let (t, mut before) = self.admissible_side(other, t, before)?;
+        // Best effort: the interpolated state is within the tolerance of the held constraints.
+        let _ = project_onto(&self.mech, self.held(), self.n, &mut before);
+        self.crossing(other, t, before, hint, found)
+    }
+
+    /// An impact reaching constraint `index` at `t` with the other constraints of `set` closed
+    /// (docs/contact-laws.md, law 2): the impulses solve the generalized Newton law on the whole
+    /// set; then law 1 decides which of the constraints left at rest hold.
+    fn impact_set(
+        &mut self,
+        index: usize,
+        set: ActiveSet,
+        t: f64,
+        before: Vec<f64>,
+        hint: f64,
+    ) -> Result<Next, Error> {
+        let n = self.n;
+        let accumulating = self.accumulation.constraints().with(index);
+        if let ZenoStrategy::Epsilon(eps) = self.sim.options.zeno {
+            let all = accumulating.union(set);
+            if self.epsilon_met(all, &before, eps)? {
+                let p = self.accumulation.predict();
+                return self.switch_set(index, all, t, before, p);
+            }
+        }
+        let restitution: Vec<f64> = set
+            .iter()
+            .map(|i| self.sim.model.constraints()[i].restitution)
+            .collect();
+        let (q, q_dot) = before.split_at(n);
+        let contacts = Contacts::at(&self.mech, set, q, q_dot)
+            .map_err(|(err, _)| self.fail_dynamics(err, t, &before))?;
+        let mut after = before.clone();
+        let impulses = contacts
+            .impact(&restitution, &mut after[n..])
+            .map_err(|err| self.fail_dynamics(err, t, &before))?;
+        let mode = self.settle(set, t, &mut after)?;
+        self.record_event(
+            EventKind::Impact,
+            index,
+            (set, impulses),
+            t,
+            &before,
+            &after,
+            mode,
+        )?;
+        self.impacts += 1;
+        self.sequence.record(index, t);
+        self.accumulation.record(index, t);
+        if self.no_progress(t) {
+            // Impacts that no longer advance time: chattering on every constraint involved.
+            let all = self.accumulation.constraints().union(set);
+            let p = Prediction {
+                next_flight: 0.0,
+                remaining: 0.0,
+            };
+            return match self.sim.options.zeno {
+                ZenoStrategy::Off => Ok(self.stall_set(index, all, t, &after, p)),
+                _ => self.switch_set(index, all, t, after, Some(p)),
+            };
+        }
+        if let Some(next) = self.accumulation_resolved(index, set, t, &after)? {
+            return Ok(next);
+        }
+        self.restart(t, &after, Some(hint))?;
+        self.enter_mode(t)?;
+        Ok(Next::Continue)
+    }
+
+    /// The mode after an impact on `set` that left `y`: the constraints of the set at rest
+    /// (`|A q̇| within rounding`) are closed, and law 1 picks those that hold; `y` is put onto
+    /// them.
+    fn settle(&mut self, set: ActiveSet, t: f64, y: &mut [f64]) -> Result<Mode, Error> {
+        let (q, q_dot) = y.split_at(self.n);
+        let mut closed = ActiveSet::empty();
+        for index in set.iter() {
+            let normal = self.normal(index, t, q, q_dot)?;
+            if normal.a_q_dot.abs() <= normal.a_q_dot_round_off {
+                closed = closed.with(index);
+            }
+        }
+        let held = self.held_of(closed, t, y)?;
+        if held.is_empty() {
+            return Ok(Mode::Free);
+        }
+        let state = y.to_vec();
+        project_onto(&self.mech, held, self.n, y)
+            .map_err(|err| self.fail_dynamics(err, t, &state))?;
+        Ok(Mode::Constrained(held))
+    }
+
+    /// The constraints of `closed` that hold at `(t, y)` (docs/contact-laws.md, law 1).
+    fn held_of(&mut self, closed: ActiveSet, t: f64, y: &[f64]) -> Result<ActiveSet, Error> {
+        if closed.is_empty() {
+            return Ok(closed);
+        }
+        let (q, q_dot) = y.split_at(self.n);
+        if let Some(index) = closed.only() {
+            let normal = self.normal(index, t, q, q_dot)?;
+            return Ok(if normal.lift_margin() > 0.0 {
+                ActiveSet::empty()
+            } else {
+                closed
+            });
+        }
+        let contacts = Contacts::at(&self.mech, closed, q, q_dot)
+            .map_err(|(err, _)| self.fail_dynamics(err, t, y))?;
+        contacts
+            .held_set()
+            .map_err(|err| self.fail_dynamics(err, t, y))
+    }
+
+    /// Whether the paper's ε rule holds on every constraint of `set` at `y`.
+    fn epsilon_met(&mut self, set: ActiveSet, y: &[f64], eps: f64) -> Result<bool, Error> {
+        let (q, q_dot) = y.split_at(self.n);
+        for index in set.iter() {
+            let (h, h_dot, _) = guard_along(self.sim.model, index, q, q_dot);
+            if !(h.abs() <= eps && h_dot.abs() <= eps) {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    /// After an impact reaching `index` at `t` on the constraints `involved`, which left `y` (in
+    /// the mode now current): whether the
+    /// accumulation it belongs to has reached its Zeno point as far as the run resolves it
+    /// (docs/contact-laws.md, law 3), and if so the switch (or the stall, with `Off`).
+    ///
+    /// The rest of the sequence is predicted from the physics where its impacts all reach one
+    /// constraint (the flight `2 A q̇⁺/|ḧ|`, `ḧ` under the motion held on the others), else from
+    /// the measured ratio of its flights. It is resolved when the next flight is below what
+    /// `f64` time resolves at `t` or, under `Auto`, when the remaining time is below the
+    /// integration's time resolution; in either case only where every constraint of the
+    /// accumulation is within a hundred position tolerances of its surface.
+    fn accumulation_resolved(
+        &mut self,
+        index: usize,
+        involved: ActiveSet,
+        t: f64,
+        y: &[f64],
+    ) -> Result<Option<Next>, Error> {
+        let held = self.held();
+        let accumulating = self.accumulation.constraints();
+        let prediction = if accumulating.len() == 1 {
+            if held.contains(index) {
+                // Closed by the impact (plastic): nothing bounces, nothing accumulates.
+                return Ok(None);
+            }
+            let e = self.sim.model.constraints()[index].restitution;
+            self.held_prediction(index, held, e, t, y)?
+        } else {
+            self.accumulation.predict()
+        };
+        let Some(p) = prediction else {
+            return Ok(None);
+        };
+        // The constraints of the last impact that are at their surfaces take part too (two
+        // walls reached at once, again and again).
+        let accumulating = accumulating.union(involved);
+        if !self.near(accumulating, y) {
+            return Ok(None);
+        }
+        let ulps = match self.sim.options.zeno {
+            ZenoStrategy::Auto => AUTO_ROUND_OFF_ULPS,
+            _ => OFF_ROUND_OFF_ULPS,
+        };
+        let resolved = p.next_flight <= time_resolution(t)
+            || self.below_round_off(accumulating, y, p.next_flight, ulps)
+            || (self.sim.options.zeno == ZenoStrategy::Auto
+                && p.remaining * self.resolution_rate(t, y)? <= 1.0);
+        if !resolved {
+            return Ok(None);
+        }
+        let all = accumulating.union(held);
+        Ok(Some(match self.sim.options.zeno {
+            ZenoStrategy::Off => self.stall_set(index, all, t, y, p),
+            _ => self.switch_set(index, all, t, y.to_vec(), Some(p))?,
+        }))
+    }
+
+    /// The next flight of a body leaving constraint `index` at `y`, pulled back under the
+    /// motion held on `held`: `Prediction` from `A q̇⁺` and `ḧ = ḧ_free − Σ W_ih λ_h`.
+    fn held_prediction(
+        &mut self,
+        index: usize,
+        held: ActiveSet,
+        e: f64,
+        t: f64,
+        y: &[f64],
+    ) -> Result<Option<Prediction>, Error> {
+        let (q, q_dot) = y.split_at(self.n);
+        let normal = self.normal(index, t, q, q_dot)?;
+        let round_off = (normal.a_q_dot_round_off, normal.h_ddot_round_off);
+        let held = held.minus(ActiveSet::single(index));
+        if held.is_empty() {
+            return Ok(Prediction::new(
+                normal.a_q_dot,
+                normal.h_ddot_free,
+                e,
+                round_off,
+            ));
+        }
+        let mut acc = vec![0.0; self.n];
+        let motion = if held.len() == 1 {
+            self.mech
+                .acceleration(q, q_dot, held.only(), &mut acc)
+                .map(|_| ())
+        } else {
+            contact::held_acceleration(&self.mech, held, q, q_dot, &mut acc).map(|_| ())
+        };
+        motion.map_err(|err| self.fail_dynamics(err, t, y))?;
+        // ḧ = A q̈ + Ȧ q̇, with Ȧ q̇ = ḧ_free − A M⁻¹ f.
+        let mut free = vec![0.0; self.n];
+        self.mech
+            .acceleration(q, q_dot, None, &mut free)
+            .map_err(|err| self.fail_dynamics(err, t, y))?;
+        let mut gradient = vec![0.0; self.n];
+        self.mech.constraint_gradient(index, q, &mut gradient);
+        let change: f64 = gradient
+            .iter()
+            .zip(acc.iter().zip(&free))
+            .map(|(a, (held, free))| a * (held - free))
+            .sum();
+        let h_ddot = normal.h_ddot_free + change;
+        Ok(Prediction::new(normal.a_q_dot, h_ddot, e, round_off))
+    }
+
+    /// Whether the motion of every constraint of `set` over the next flight, `|A q̇| Δ`, is within
+    /// `ulps` of the rounding error of its `h`: no further impact on them can be resolved.
+    fn below_round_off(&mut self, set: ActiveSet, y: &[f64], flight: f64, ulps: f64) -> bool {
+        let (q, q_dot) = y.split_at(self.n);
+        set.iter().all(|index| {
+            let mut gradient = std::mem::take(&mut self.scratch);
+            let h = self.mech.constraint_gradient(index, q, &mut gradient);
+            let h_scale = guard_scale(h, &gradient[..self.n], q);
+            let a_q_dot: f64 = gradient[..self.n]
+                .iter()
+                .zip(q_dot)
+                .map(|(a, v)| a * v)
+                .sum();
+            self.scratch = gradient;
+            a_q_dot.abs() * flight <= ulps * f64::EPSILON * h_scale
+        })
+    }
+
+    /// Whether every constraint of `set` is within a hundred position tolerances of its surface
+    /// at `y`.
+    fn near(&mut self, set: ActiveSet, y: &[f64]) -> bool {
+        let tol = self.sim.options.tolerances;
+        let q = &y[..self.n];
+        set.iter().all(|index| {
+            let mut gradient = std::mem::take(&mut self.scratch);
+            let h = self.mech.constraint_gradient(index, q, &mut gradient);
+            let norm = gradient[..self.n].iter().map(|a| a * a).sum::<f64>().sqrt();
+            self.scratch = gradient;
+            let scale = self.constraint_scale(index, q);
+            h.abs() <= 100.0 * (tol.atol + tol.rtol * scale) * norm
+        })
+    }
+
+    /// The switch through `R∞` onto every constraint of `set` at once (position onto all
+    /// `hᵢ = 0`, velocity by the plastic law), after which law 1 picks those that hold.
+    fn switch_set(
+        &mut self,
+        index: usize,
+        set: ActiveSet,
+        t: f64,
+        before: Vec<f64>,
+        prediction: Option<Prediction>,
+    ) -> Result<Next, Error> {
+        let mut after = before.clone();
+        project_onto(&self.mech, set, self.n, &mut after)
+            .map_err(|err| self.fail_dynamics(err, t, &before))?;
+        let held = self.held_of(set, t, &after)?;
+        let remaining = prediction.map_or(0.0, |p| p.remaining);
+        let ratio = self.accumulation.ratio();
+        let kind = match (prediction, ratio) {
+            (Some(p), Some(r)) if r > 0.0 && p.next_flight > time_resolution(t) => {
+                ZenoKind::Genuine
+            }
+            _ => ZenoKind::Chattering,
+        };
+        self.zeno.push(ZenoPoint {
+            constraint: index,
+            constraints: set,
+            kind,
+            t_switch: t,
+            t_zeno: t + remaining,
+            impacts: self.accumulation.count(),
+            ratio,
+            point: split(&after, self.n),
+        });
+        self.sequence.clear();
+        self.accumulation.clear();
+        let mode = if held.is_empty() {
+            Mode::Free
+        } else {
+            Mode::Constrained(held)
+        };
+        let change = (set, Vec::new());
+        self.record_event(EventKind::Zeno, index, change, t, &before, &after, mode)?;
+        self.restart(t, &after, None)?;
+        self.enter_mode(t)?;
+        Ok(Next::Continue)
+    }
+
+    /// `Off` on an accumulation over `set`: the plain hybrid system stops there.
+    fn stall_set(
+        &mut self,
+        index: usize,
+        set: ActiveSet,
+        t: f64,
+        y: &[f64],
+        p: Prediction,
+    ) -> Next {
+        let t_zeno = t + p.remaining;
+        self.zeno.push(ZenoPoint {
+            constraint: index,
+            constraints: set,
+            kind: ZenoKind::Genuine,
+            t_switch: t,
+            t_zeno,
+            impacts: self.accumulation.count(),
+            ratio: self.accumulation.ratio(),
+            point: split(y, self.n),
+        });
+        self.t = t;
+        self.y.copy_from_slice(y);
+        Next::Stop(Outcome::ZenoStalled {
+            constraint: index,
+            t_zeno,
+        })
+    }
+
+    /// After a step held on two or more constraints: another constraint reached (an impact on
+    /// all of them), or one of them letting go (its multiplier reaching 0, where law 1 decides
+    /// again which hold).
+    fn after_set_step(&mut self, set: ActiveSet) -> Result<Next, Error> {
+        let (t0, t1) = (self.stepper.t_previous(), self.stepper.t());
+        let n = self.n;
+        if let Some((other, t)) = self.earliest_crossing(t0, t1, set)? {
+            return self.reached_while_held(other, t);
+        }
+        let end = self.stepper.y().to_vec();
+        let margin_end = self.set_margin(set, t1, &end)?;
+        let margin_start = self.set_margin_start;
+        let crossing = if margin_end <= 0.0
+            && margin_start.max(margin_end) < -(margin_end - margin_start).abs()
+        {
+            None
+        } else {
+            self.dense()?;
+            let (stepper, mech, cubic) = (&self.stepper, self.mech, self.cubic);
+            let mut y = vec![0.0; 2 * n];
+            let mut acc = vec![0.0; n];
+            first_crossing(t0, t1, |t| {
+                interpolate(stepper, cubic, t, &mut y);
+                let (q, q_dot) = y.split_at(n);
+                let margin = contact::held_acceleration(&mech, set, q, q_dot, &mut acc)
+                    .and_then(|(contacts, lambda)| {
+                        let factor = contacts.factor()?;
+                        let margins = contacts.lift_margins(&factor, &lambda);
+                        Ok(margins.into_iter().fold(f64::NEG_INFINITY, f64::max))
+                    })
+                    .unwrap_or(f64::NAN);
+                (lift_guard(margin), None)
+            })
+        };
+        self.set_margin_start = margin_end;
+        if let Some(c) = crossing {
+            let t = c.t_violating;
+            self.emit_grid_before(t)?;
+            let mut state = self.state_at(t)?;
+            let copy = state.clone();
+            project_onto(&self.mech, set, n, &mut state)
+                .map_err(|err| self.fail_dynamics(err, t, &copy))?;
+            return self.set_liftoff(set, t, state);
+        }
+        self.commit_step()?;
+        Ok(Next::Continue)
+    }
+
+    /// Some constraints of `set` let go at `t`: law 1 on the set decides which still hold (at
+    /// least the one whose margin is largest goes).
+    fn set_liftoff(&mut self, set: ActiveSet, t: f64, state: Vec<f64>) -> Result<Next, Error> {
+        let mut held = self.held_of(set, t, &state)?;
+        if held == set {
+            // At the root itself law 1 may still see the force at 0: the largest margin goes.
+            let (q, q_dot) = state.split_at(self.n);
+            let mut acc = vec![0.0; self.n];
+            let solved = contact::held_acceleration(&self.mech, set, q, q_dot, &mut acc)
+                .and_then(|(c, lambda)| Ok((c.lift_margins(&c.factor()?, &lambda), c.indices)));
+            let (margins, indices) = solved.map_err(|err| self.fail_dynamics(err, t, &state))?;
+            let worst = (0..margins.len())
+                .max_by(|&i, &j| margins[i].total_cmp(&margins[j]))
+                .unwrap_or(0);
+            held = set.minus(ActiveSet::single(indices[worst]));
+        }
+        let gone = set.minus(held);
+        let index = gone.iter().next().unwrap_or(0);
+        let mode = if held.is_empty() {
+            Mode::Free
+        } else {
+            Mode::Constrained(held)
+        };
+        let change = (gone, Vec::new());
+        self.record_event(EventKind::Liftoff, index, change, t, &state, &state, mode)?;
+        self.sequence.clear();
+        self.accumulation.clear();
+        self.restart(t, &state, None)?;
+        self.enter_mode(t)?;
         Ok(Next::Continue)
     }
 
@@ -862,10 +1427,13 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
 
     /// Records an event at `t` from `before` (in the current mode) to `after` (in `new_mode`),
     /// with its samples, and closes the current interval of the hybrid time domain.
+    /// `change` is the constraints involved and, for an impact, their impulses.
+    #[allow(clippy::too_many_arguments)]
     fn record_event(
         &mut self,
         kind: EventKind,
         constraint: usize,
+        change: (ActiveSet, Vec<f64>),
         t: f64,
         before: &[f64],
         after: &[f64],
@@ -887,10 +1455,13 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             return Err(self.fail_at(t, before, error));
         }
         self.emit(t, before, self.mode)?;
+        let (contacts, impulses) = change;
         let event = Event {
             kind,
             t,
             constraint,
+            contacts,
+            impulses,
             before: split(before, self.n),
             after: split(after, self.n),
         };
@@ -957,13 +1528,8 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         while self.next_output < t || (inclusive && self.next_output == t) {
             let to = self.next_output;
             interpolate(&self.stepper, self.cubic, to, &mut y);
-            if let Mode::Constrained(active) = self.mode {
-                let index = active.only().expect("one active constraint");
-                let (q, q_dot) = y.split_at_mut(self.n);
-                self.mech
-                    .project(index, q, q_dot)
-                    .map_err(|err| self.dynamics_error(err, to, &self.y.clone()))?;
-            }
+            project_onto(&self.mech, self.held(), self.n, &mut y)
+                .map_err(|err| self.dynamics_error(err, to, &self.y.clone()))?;
             self.emit(to, &y, self.mode)?;
             let k = (to / dt).round() + 1.0;
             self.next_output = k * dt;
@@ -989,13 +1555,20 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         }
         self.lambda_buf.iter_mut().for_each(|l| *l = 0.0);
         if let Mode::Constrained(active) = mode {
-            for index in active.iter() {
+            if let Some(index) = active.only() {
                 let mut w = std::mem::take(&mut self.w);
                 let normal = self.mech.normal(index, q, q_dot, &mut w);
                 self.w = w;
                 self.lambda_buf[index] = normal
                     .map_err(|err| self.dynamics_error(err, t, y))?
                     .lambda();
+            } else {
+                let mut acc = vec![0.0; self.n];
+                let held = contact::held_acceleration(&self.mech, active, q, q_dot, &mut acc);
+                let (contacts, lambda) = held.map_err(|err| self.dynamics_error(err, t, y))?;
+                for (&index, l) in contacts.indices.iter().zip(lambda) {
+                    self.lambda_buf[index] = l;
+                }
             }
         }
         let sample = Sample {
@@ -1045,6 +1618,14 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 constraint: name(constraint),
                 residual,
             },
+            DynamicsError::DependentConstraints { constraints } => Error::DependentConstraints {
+                t,
+                constraints: constraints.iter().map(name).collect(),
+            },
+            DynamicsError::ContactProblem { constraints } => Error::ContactProblem {
+                t,
+                constraints: constraints.iter().map(name).collect(),
+            },
         }
     }
 
@@ -1053,28 +1634,6 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             StepError::Rhs { t, source } => self.dynamics_error(source, t, self.stepper.y()),
             StepError::StepSizeUnderflow { t, h } => Error::StepSizeUnderflow { t, h },
             StepError::NonFinite { t } => Error::NonFinite { t },
-        }
-    }
-
-    /// Two contacts at once: the run ends there (keeping everything up to the contact).
-    fn simultaneous(&mut self, t: f64, first: usize, second: usize) -> Error {
-        let name = |i: usize| self.sim.model.constraints()[i].name.clone();
-        let error = Error::SimultaneousContact {
-            t,
-            first: name(first),
-            second: name(second),
-        };
-        match self.state_at(t) {
-            Ok(mut state) => {
-                if let Mode::Constrained(active) = self.mode {
-                    let index = active.only().expect("one active constraint");
-                    let (q, q_dot) = state.split_at_mut(self.n);
-                    // Best effort: the unprojected state is within the tolerance of it.
-                    let _ = self.mech.project(index, q, q_dot);
-                }
-                self.fail_at(t, &state, error)
-            }
-            Err(other) => other,
         }
     }
 
@@ -1103,6 +1662,32 @@ fn leaving(normal: &Normal) -> bool {
     normal.a_q_dot > normal.a_q_dot_round_off
         || (normal.a_q_dot.abs() <= normal.a_q_dot_round_off
             && normal.h_ddot_free > normal.h_ddot_round_off)
+}
+
+/// `R∞` onto the constraints of `set` at `y = (q, q̇)` (nothing where the set is empty): the
+/// single-constraint projection for one, the projection onto the set for several.
+fn project_onto<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    n: usize,
+    y: &mut [f64],
+) -> Result<(), DynamicsError> {
+    let (q, q_dot) = y.split_at_mut(n);
+    match set.only() {
+        _ if set.is_empty() => Ok(()),
+        Some(index) => mech.project(index, q, q_dot).map(|_| ()),
+        None => contact::project(mech, set, q, q_dot),
+    }
+}
+
+/// The lift-off guard from a lift margin: it crosses 0 where the margin becomes positive. A
+/// margin of exactly 0 (a contact without force, like two balls at rest side by side) holds.
+fn lift_guard(margin: f64) -> f64 {
+    if margin == 0.0 {
+        f64::MIN_POSITIVE
+    } else {
+        -margin
+    }
 }
 
 fn split(y: &[f64], n: usize) -> State {

@@ -8,7 +8,7 @@
 //!   Zeno execution, and is reported with each Zeno point as a diagnostic.
 
 use crate::events::time_resolution;
-use crate::execution::ZenoKind;
+use crate::execution::{ActiveSet, ZenoKind};
 
 /// Flights over which the ratio is measured: a geometric mean over several flights divides the
 /// timing noise of the last (shortest) ones by their number.
@@ -50,15 +50,89 @@ impl ImpactSequence {
     /// The ratio of successive flight times: the geometric mean over the last
     /// [`RATIO_BASELINE`] flights (fewer early in a sequence), once there are three impacts.
     pub fn ratio(&self) -> Option<f64> {
-        if self.count < 3 {
+        ratio_of(&self.times, self.count)
+    }
+}
+
+/// The impacts of a sequence that may accumulate over several constraints (docs/contact-laws.md,
+/// law 3): the walls of a groove in turn, the corners of a rocking block, or one wall while
+/// another constraint holds. Unlike [`ImpactSequence`] it does not start anew when another
+/// constraint is reached; the runner clears it after a switch or a lift-off.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Accumulation {
+    /// The last impact times, newest last, with the constraint each reached.
+    times: [f64; RATIO_BASELINE + 2],
+    constraints: [usize; RATIO_BASELINE + 2],
+    count: usize,
+}
+
+impl Accumulation {
+    /// Records an impact reaching `constraint` at `t`.
+    pub fn record(&mut self, constraint: usize, t: f64) {
+        self.times.rotate_left(1);
+        self.constraints.rotate_left(1);
+        self.times[RATIO_BASELINE + 1] = t;
+        self.constraints[RATIO_BASELINE + 1] = constraint;
+        self.count += 1;
+    }
+
+    /// Forgets the sequence.
+    pub fn clear(&mut self) {
+        *self = Self::default();
+    }
+
+    /// Impacts in the sequence.
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// The constraints reached by the last impacts (at most [`RATIO_BASELINE`] + 2 of them).
+    pub fn constraints(&self) -> ActiveSet {
+        let recent = self.count.min(RATIO_BASELINE + 2);
+        self.constraints[RATIO_BASELINE + 2 - recent..]
+            .iter()
+            .fold(ActiveSet::empty(), |set, &i| set.with(i))
+    }
+
+    /// The last flight, between the last two impacts.
+    pub fn last_flight(&self) -> Option<f64> {
+        (self.count >= 2).then(|| self.times[RATIO_BASELINE + 1] - self.times[RATIO_BASELINE])
+    }
+
+    /// The ratio of successive flights, as [`ImpactSequence::ratio`] measures it, over the
+    /// flights between any constraints' impacts.
+    pub fn ratio(&self) -> Option<f64> {
+        ratio_of(&self.times, self.count)
+    }
+
+    /// The rest of the sequence from the measured ratio `r < 1`: the next flight `r Δ` after the
+    /// last one `Δ`, and the remaining time `r Δ / (1 − r)`. `None` without a ratio below 1.
+    pub fn predict(&self) -> Option<Prediction> {
+        let r = self.ratio()?;
+        let last = self.last_flight()?;
+        let shrinking = r < 1.0 - 1e-9;
+        if !shrinking {
             return None;
         }
-        let span = (self.count - 2).min(RATIO_BASELINE);
-        let newest = RATIO_BASELINE + 1;
-        let last = self.times[newest] - self.times[newest - 1];
-        let first = self.times[newest - span] - self.times[newest - span - 1];
-        (first > 0.0 && last >= 0.0).then(|| (last / first).powf(1.0 / span as f64))
+        let next_flight = r * last;
+        Some(Prediction {
+            next_flight,
+            remaining: next_flight / (1.0 - r),
+        })
     }
+}
+
+/// The geometric mean of the ratios of successive flights over the last [`RATIO_BASELINE`]
+/// flights of `times` (newest last), once there are three impacts.
+fn ratio_of(times: &[f64; RATIO_BASELINE + 2], count: usize) -> Option<f64> {
+    if count < 3 {
+        return None;
+    }
+    let span = (count - 2).min(RATIO_BASELINE);
+    let newest = RATIO_BASELINE + 1;
+    let last = times[newest] - times[newest - 1];
+    let first = times[newest - span] - times[newest - span - 1];
+    (first > 0.0 && last >= 0.0).then(|| (last / first).powf(1.0 / span as f64))
 }
 
 /// What the post-impact state predicts about the rest of a Zeno sequence.
@@ -163,5 +237,25 @@ mod tests {
         assert!((s.ratio().unwrap() - 0.125_f64.sqrt()).abs() < 1e-15);
         s.record(1, 3.0);
         assert_eq!((s.count(), s.ratio()), (1, None));
+    }
+
+    #[test]
+    fn an_accumulation_alternates_between_constraints() {
+        // Flights 1, 0.5, 0.25 between impacts on constraints 0 and 1 in turn: ratio 0.5, the
+        // next flight 0.125 and the rest of the geometric series 0.25 (closed form).
+        let mut a = Accumulation::default();
+        for (k, t) in [0.0, 1.0, 1.5, 1.75].into_iter().enumerate() {
+            a.record(k % 2, t);
+        }
+        assert_eq!(a.constraints(), ActiveSet::single(0).with(1));
+        assert_eq!(a.ratio(), Some(0.5));
+        let p = a.predict().unwrap();
+        assert_eq!((p.next_flight, p.remaining), (0.125, 0.25));
+        // Flights that do not shrink predict nothing.
+        a.record(0, 2.0);
+        a.record(1, 3.0);
+        assert!(a.predict().is_none());
+        a.clear();
+        assert_eq!((a.count(), a.constraints()), (0, ActiveSet::empty()));
     }
 }

@@ -7,7 +7,7 @@
 use std::f64::consts::PI;
 use zenosim::models::{BallOnSine, BouncingBall, SphericalPendulum};
 use zenosim::{
-    Completion, Constraint, Derived, Error, EventKind, Execution, HybridLagrangian, Mode, Outcome,
+    Completion, Constraint, Derived, Error, EventKind, Execution, HybridLagrangian, Outcome,
     OutputGrid, Scalar, Simulation, SimulationOptions, Tolerances, Trajectory, ZenoStrategy,
 };
 
@@ -34,8 +34,6 @@ enum Twist {
     GuardWithoutDerivative,
     /// `L = ½ ẋ² − G x`, `h = x³`: `∂h/∂q = 3x² = 0` on `h = 0`.
     Cubic,
-    /// `L = ½(ẋ² + ẏ²) − G (x + y)`, `h1 = x`, `h2 = y`: a ball falling into a corner.
-    Corner,
     /// `L = ½ ẋ² − G x`, `h = atan x`, with a completion map that throws `x` to 100, from where
     /// Newton's method on `atan` diverges.
     AtanWithBadMap,
@@ -78,7 +76,6 @@ impl HybridLagrangian for Toy {
             Twist::GuardWithoutDerivative | Twist::Cubic | Twist::AtanWithBadMap => {
                 v[0] * v[0] * 0.5 - q[0] * G
             }
-            Twist::Corner => kinetic(v) - (q[0] + q[1]) * G,
         }
     }
 
@@ -86,13 +83,12 @@ impl HybridLagrangian for Toy {
         &self.constraints
     }
 
-    fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D {
+    fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
         match self.twist {
             Twist::Plain | Twist::NoKineticTerm => q[0],
             Twist::NanPastThree | Twist::MassLosesDefiniteness => q[1],
             Twist::GuardWithoutDerivative => D::from(q[0].re()),
             Twist::Cubic => q[0].powi(3),
-            Twist::Corner => q[index],
             Twist::AtanWithBadMap => q[0].atan(),
         }
     }
@@ -156,7 +152,8 @@ fn error_time(e: &Error) -> f64 {
         | Error::DegenerateConstraint { t, .. }
         | Error::NonFinite { t }
         | Error::StepSizeUnderflow { t, .. }
-        | Error::SimultaneousContact { t, .. }
+        | Error::DependentConstraints { t, .. }
+        | Error::ContactProblem { t, .. }
         | Error::Projection { t, .. }
         | Error::Limit { t, .. } => *t,
         other => panic!("not a run-time error: {other:?}"),
@@ -862,35 +859,6 @@ fn a_constraint_whose_gradient_vanishes_on_its_surface_is_degenerate() {
         &["'cubic'", "write h so that its gradient does not vanish"],
     );
     assert_kept_up_to_failure(&run, &trajectory);
-}
-
-/// A ball falling diagonally into the corner of `x ≥ 0`, `y ≥ 0` from `(1, 1)` reaches both
-/// walls at once, at `√(2/g)` (closed form).
-#[test]
-fn two_constraints_contacted_at_once() {
-    let model = Toy::new(Twist::Corner, 2, &["wall", "floor"], 0.5);
-    let (run, trajectory) = run(&model, &[1.0, 1.0], &[0.0, 0.0], options(2.0));
-    let err = failure(&run).clone();
-    match &err {
-        Error::SimultaneousContact { t, first, second } => {
-            let mut names = [first.as_str(), second.as_str()];
-            names.sort();
-            assert_eq!(names, ["floor", "wall"]);
-            assert!((t - (2.0 / G).sqrt()).abs() < 1e-9, "t = {t}");
-        }
-        other => panic!("{other:?}"),
-    }
-    assert_says(&err, &["'wall'", "'floor'", "at the same time"]);
-    assert!(run.events.is_empty());
-    assert_eq!(run.intervals.len(), 1);
-    assert_eq!(run.intervals[0].mode, Mode::Free);
-    assert_kept_up_to_failure(&run, &trajectory);
-    // Kept up to the contact: both coordinates at (round-off above) 0.
-    assert!(
-        run.final_state.q.iter().all(|x| x.abs() < 1e-9),
-        "{:?}",
-        run.final_state
-    );
 }
 
 /// The model's completion map throws `x` to 100, where Newton's method on `h = atan x`

@@ -1,7 +1,7 @@
-//! Models with several constraints, one contact at a time.
+//! Models with several constraints: one contact at a time, and several at once.
 
 use zenosim::{
-    Constraint, Error, EventKind, HybridLagrangian, Mode, Outcome, Scalar, Simulation,
+    ActiveSet, Constraint, Error, EventKind, HybridLagrangian, Mode, Outcome, Scalar, Simulation,
     SimulationOptions, Trajectory,
 };
 
@@ -109,11 +109,14 @@ fn wall_impacts_between_floor_bounces_and_a_zeno_point_on_the_floor() {
     assert_eq!(run.outcome, Outcome::Finished);
 }
 
+/// Regression: a wall reached while sliding on the floor stopped the run with "simultaneous
+/// contacts are not supported". It is an impact under the generalized Newton law with the floor
+/// in it (docs/contact-laws.md, law 4), and the floor holds on.
 #[test]
-fn a_wall_reached_while_sliding_on_the_floor_stops_with_a_clear_error() {
-    // Sliding on the floor (reached at once: dropped from rest at y = 0 it chatters) toward
-    // the right wall at speed 0.5: contact with both at t = 1.6. Simultaneous contacts are not
-    // supported yet, so the run stops there, keeping everything before it.
+fn a_wall_reached_while_sliding_on_the_floor_is_an_impact_with_the_floor_held() {
+    // Dropped from rest at y = 0 it chatters onto the floor at once, then slides at 0.5 to the
+    // right wall (x = 1) at t = 1.6, leaves it at 0.9·0.5 = 0.45 and reaches the left wall at
+    // 1.6 + 1/0.45, leaving at 0.405 (closed form: uniform motion between the walls).
     let model = Box2d::new(1.0, 9.81, 0.9, 0.5);
     let options = SimulationOptions {
         t_end: 5.0,
@@ -123,27 +126,145 @@ fn a_wall_reached_while_sliding_on_the_floor_stops_with_a_clear_error() {
     let run = Simulation::new(&model, &[0.2, 0.0], &[0.5, 0.0], options)
         .unwrap()
         .run(&mut trajectory);
+    assert_eq!(run.outcome, Outcome::Finished);
+    let walls: Vec<_> = run
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Impact && e.constraint != 2)
+        .collect();
+    assert_eq!(walls.len(), 2, "{:?}", run.events);
+    let expected = [(1, 1.6, -0.45), (0, 1.6 + 1.0 / 0.45, 0.405)];
+    for (event, (wall, t, v)) in walls.iter().zip(expected) {
+        assert_eq!(event.constraint, wall);
+        assert!((event.t - t).abs() < 1e-9 * t, "{} vs {t}", event.t);
+        assert!((event.after.q_dot[0] - v).abs() < 1e-12);
+        // The floor takes part in the impact law, with no impulse: the wall's is (1 + e)|ẋ|.
+        assert!(event.contacts.contains(2) && event.contacts.contains(wall));
+        assert_eq!(event.impulses.len(), 2);
+        assert!(event.impulses[1].abs() < 1e-12, "{:?}", event.impulses);
+        assert!((event.impulses[0] - 1.9 * v.abs() / 0.9).abs() < 1e-12);
+    }
+    assert_eq!(run.final_mode, Mode::Constrained(ActiveSet::single(2)));
+    let x_end = 0.405 * (5.0 - expected[1].1);
+    assert!((run.final_state.q[0] - x_end).abs() < 1e-9);
+    assert!(run.final_state.q[1].abs() < 1e-12);
+    for p in &trajectory.points {
+        assert!(p.h.iter().all(|&h| h >= -1e-9), "{p:?}");
+    }
+}
+
+/// Regression: a ball falling diagonally into a corner reached both walls at once and stopped
+/// with an error. Gravity (−g, −g) from (1, 1): both walls at √(2/g) in one impact that
+/// reverses both velocity components by e; the bounces accumulate on both walls together at
+/// √(2/g)(1+e)/(1−e) (the bouncing ball's closed form), and the ball rests in the corner.
+#[test]
+fn two_walls_reached_at_once_share_one_impact_and_one_zeno_point() {
+    struct Corner(Vec<Constraint>);
+    impl HybridLagrangian for Corner {
+        const DIMENSION: Option<usize> = Some(2);
+        fn dimension(&self) -> usize {
+            2
+        }
+        fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
+            (v[0] * v[0] + v[1] * v[1]) * 0.5 - (q[0] + q[1]) * 9.81
+        }
+        fn constraints(&self) -> &[Constraint] {
+            &self.0
+        }
+        fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D {
+            q[index]
+        }
+    }
+    let model = Corner(vec![
+        Constraint::new("wall", 0.5),
+        Constraint::new("floor", 0.5),
+    ]);
+    let options = SimulationOptions {
+        t_end: 2.0,
+        ..Default::default()
+    };
+    let run = Simulation::new(&model, &[1.0, 1.0], &[0.0, 0.0], options)
+        .unwrap()
+        .run(&mut ());
+    assert_eq!(run.outcome, Outcome::Finished);
+    let t1 = (2.0 / 9.81_f64).sqrt();
+    let first = &run.events[0];
+    assert_eq!(first.kind, EventKind::Impact);
+    assert_eq!(first.contacts, ActiveSet::single(0).with(1));
+    assert!((first.t - t1).abs() < 1e-9 * t1);
+    for i in 0..2 {
+        assert!((first.after.q_dot[i] + 0.5 * first.before.q_dot[i]).abs() < 1e-9);
+    }
+    assert_eq!(run.zeno.len(), 1, "{:?}", run.zeno);
+    let zeno = &run.zeno[0];
+    assert_eq!(zeno.constraints, ActiveSet::single(0).with(1));
+    let tau = t1 * 3.0;
+    assert!(
+        (zeno.t_zeno - tau).abs() < 1e-8 * tau,
+        "{} vs {tau}",
+        zeno.t_zeno
+    );
+    assert_eq!(
+        run.final_mode,
+        Mode::Constrained(ActiveSet::single(0).with(1))
+    );
+    assert!(run
+        .final_state
+        .q
+        .iter()
+        .chain(&run.final_state.q_dot)
+        .all(|x| x.abs() < 1e-9));
+}
+
+/// The same floor written twice (`y` and `2 y`): the impacts are well defined (the impulse
+/// splits between the two, the velocity does not), but resting on both leaves the contact
+/// forces undetermined: a clear error naming both, at the Zeno point, keeping the run.
+#[test]
+fn the_same_floor_twice_is_a_clear_error_where_it_must_hold() {
+    struct Twice(Vec<Constraint>);
+    impl HybridLagrangian for Twice {
+        const DIMENSION: Option<usize> = Some(1);
+        fn dimension(&self) -> usize {
+            1
+        }
+        fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
+            v[0] * v[0] * 0.5 - q[0] * 9.81
+        }
+        fn constraints(&self) -> &[Constraint] {
+            &self.0
+        }
+        fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D {
+            q[0] * (index + 1) as f64
+        }
+    }
+    let model = Twice(vec![
+        Constraint::new("floor", 0.5),
+        Constraint::new("floor again", 0.5),
+    ]);
+    let options = SimulationOptions {
+        t_end: 2.0,
+        ..Default::default()
+    };
+    let run = Simulation::new(&model, &[1.0], &[0.0], options)
+        .unwrap()
+        .run(&mut ());
     let Outcome::Failed(error) = &run.outcome else {
         panic!("expected a failure, got {:?}", run.outcome);
     };
-    let Error::SimultaneousContact { t, first, second } = error else {
+    let Error::DependentConstraints { t, constraints } = error else {
         panic!("{error:?}");
     };
-    assert_eq!((first.as_str(), second.as_str()), ("floor", "right"));
-    assert!((t - 1.6).abs() < 1e-9, "{t}");
+    assert_eq!(constraints, &["floor", "floor again"]);
+    // The bouncing ball's Zeno time (closed form), where both would have to hold.
+    let tau = (2.0 / 9.81_f64).sqrt() * 3.0;
+    assert!((t - tau).abs() < 1e-8, "{t} vs {tau}");
     let message = error.to_string();
-    assert!(
-        message.contains("'floor'")
-            && message.contains("'right'")
-            && message.contains("not supported")
-    );
-    // Everything up to the contact is kept, on the floor, and the last sample is the contact.
+    assert!(message.contains("'floor' and 'floor again'") && message.contains("dependent"));
+    // Every bounce before it: the velocity reversed by e, as with one floor.
+    let impacts = run.impact_times(0).len() + run.impact_times(1).len();
+    assert!(impacts > 20, "{impacts}");
+    for e in &run.events {
+        assert!((e.after.q_dot[0] + 0.5 * e.before.q_dot[0]).abs() < 1e-9);
+    }
     assert_eq!(run.t_final, *t);
-    assert!(matches!(run.final_mode, Mode::Constrained(_)));
-    let last = trajectory.points.last().unwrap();
-    assert_eq!(last.t, *t);
-    assert!(
-        (last.q[0] - 1.0).abs() < 1e-9 && last.q[1].abs() < 1e-12,
-        "{last:?}"
-    );
 }

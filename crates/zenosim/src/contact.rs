@@ -1,0 +1,338 @@
+//! Several contacts at one state (docs/contact-laws.md): the Delassus matrix of a set of
+//! constraints, the motion held on the set, the impact law on the set (the generalized Newton
+//! law, an LCP), the contact forces that decide which constraints hold (law 1, an LCP), and the
+//! projection `R∞` onto the set.
+//!
+//! Signs: the engine's multiplier `λ` pulls when positive (the contact force is `−Aᵀλ`); the
+//! laws are written with forces and impulses `f = −λ ≥ 0` that push. One contact alone is the
+//! single-constraint mechanics of [`crate::mechanics`], which the runner keeps using there.
+
+use crate::execution::ActiveSet;
+use crate::lcp;
+use crate::mechanics::{guard_scale, DynamicsError, Mechanics, Normal};
+use crate::model::HybridLagrangian;
+use crate::motion::dot;
+
+/// Rounding allowance of the sums below, in units of `ε` times the size of their terms.
+const ROUND_OFF: f64 = 64.0 * f64::EPSILON;
+
+/// A Delassus matrix `W` whose Cholesky pivot falls below this fraction of its diagonal entry is
+/// singular: the constraints' gradients are dependent (to about eight digits).
+const DEPENDENT_PIVOT: f64 = 1e-8;
+
+/// The constraints of a set at one state `(q, q̇)`: their rows `Aᵢ`, directions `M⁻¹Aᵢᵀ`, normal
+/// responses, and the Delassus matrix `W = A M⁻¹ Aᵀ`.
+pub(crate) struct Contacts {
+    /// The set.
+    pub set: ActiveSet,
+    /// The constraint indices, increasing.
+    pub indices: Vec<usize>,
+    n: usize,
+    /// `hᵢ(q)`.
+    pub h: Vec<f64>,
+    /// `|hᵢ| + Σ|Aᵢⱼ qⱼ|`, the size of `hᵢ`'s terms.
+    pub h_scale: Vec<f64>,
+    /// `Aᵢ`, row after row.
+    gradient: Vec<f64>,
+    /// `M⁻¹ Aᵢᵀ`, row after row.
+    w: Vec<f64>,
+    /// Each constraint's normal response under the free motion.
+    pub normals: Vec<Normal>,
+    /// `W`, `k × k`, row-major.
+    pub delassus: Vec<f64>,
+}
+
+impl Contacts {
+    /// The set's constraints at `(q, q̇)`.
+    pub fn at<L: HybridLagrangian>(
+        mech: &Mechanics<'_, L>,
+        set: ActiveSet,
+        q: &[f64],
+        q_dot: &[f64],
+    ) -> Result<Self, (DynamicsError, usize)> {
+        let n = q.len();
+        let indices: Vec<usize> = set.iter().collect();
+        let k = indices.len();
+        let mut contacts = Self {
+            set,
+            indices,
+            n,
+            h: vec![0.0; k],
+            h_scale: vec![0.0; k],
+            gradient: vec![0.0; k * n],
+            w: vec![0.0; k * n],
+            normals: Vec::with_capacity(k),
+            delassus: vec![0.0; k * k],
+        };
+        for (row, &index) in contacts.indices.iter().enumerate() {
+            let normal = mech
+                .normal(index, q, q_dot, &mut contacts.w[row * n..(row + 1) * n])
+                .map_err(|e| (e, index))?;
+            contacts.normals.push(normal);
+            let a = &mut contacts.gradient[row * n..(row + 1) * n];
+            contacts.h[row] = mech.constraint_gradient(index, q, a);
+            contacts.h_scale[row] = guard_scale(contacts.h[row], a, q);
+        }
+        for i in 0..k {
+            for j in 0..k {
+                // Symmetric by construction: the mean of A_i M⁻¹ A_jᵀ computed both ways.
+                let ij = dot(contacts.row(i), contacts.direction(j));
+                let ji = dot(contacts.row(j), contacts.direction(i));
+                contacts.delassus[i * k + j] = 0.5 * (ij + ji);
+            }
+        }
+        Ok(contacts)
+    }
+
+    /// The number of constraints.
+    pub fn len(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// `Aᵢ` of the `i`-th constraint of the set.
+    pub fn row(&self, i: usize) -> &[f64] {
+        &self.gradient[i * self.n..(i + 1) * self.n]
+    }
+
+    /// `M⁻¹Aᵢᵀ` of the `i`-th constraint of the set.
+    pub fn direction(&self, i: usize) -> &[f64] {
+        &self.w[i * self.n..(i + 1) * self.n]
+    }
+
+    /// `v ← v + Σ M⁻¹Aᵢᵀ xᵢ`.
+    pub fn add_directions(&self, x: &[f64], v: &mut [f64]) {
+        for (i, &xi) in x.iter().enumerate() {
+            for (vj, wj) in v.iter_mut().zip(self.direction(i)) {
+                *vj += xi * wj;
+            }
+        }
+    }
+
+    /// `W`'s Cholesky factor, or the set's constraints when `W` is singular (dependent
+    /// gradients).
+    pub fn factor(&self) -> Result<Cholesky, DynamicsError> {
+        Cholesky::new(&self.delassus, self.len()).ok_or(DynamicsError::DependentConstraints {
+            constraints: self.set,
+        })
+    }
+
+    /// The multipliers `λ` (engine's sign: positive pulls) that hold the motion on every
+    /// constraint of the set (`ḧᵢ = 0`): `W λ = ḧ_free`.
+    pub fn held_multipliers(&self, factor: &Cholesky) -> Vec<f64> {
+        let b: Vec<f64> = self.normals.iter().map(|n| n.h_ddot_free).collect();
+        factor.solve(&b)
+    }
+
+    /// How far each constraint of the set is from letting go, in units of `λ`: positive when its
+    /// multiplier would have to pull beyond its rounding error. The rounding of `λ` is bounded
+    /// through `|W⁻¹|` from the rounding of each `ḧ_free`.
+    pub fn lift_margins(&self, factor: &Cholesky, lambda: &[f64]) -> Vec<f64> {
+        let k = self.len();
+        let inverse = factor.inverse();
+        (0..k)
+            .map(|i| {
+                let round: f64 = (0..k)
+                    .map(|j| inverse[i * k + j].abs() * self.normals[j].h_ddot_round_off)
+                    .sum();
+                lambda[i] - round - ROUND_OFF * lambda[i].abs()
+            })
+            .collect()
+    }
+
+    /// The held set of law 1 (resting contact): the contact forces `f ≥ 0` solve
+    /// `0 ≤ f ⊥ W f + ḧ_free ≥ 0`; a constraint holds unless it accelerates away (`ḧᵢ > 0`
+    /// beyond its rounding), which happens only where its force is 0.
+    pub fn held_set(&self) -> Result<ActiveSet, DynamicsError> {
+        let b: Vec<f64> = self.normals.iter().map(|n| n.h_ddot_free).collect();
+        let solution = lcp::solve(&self.delassus, &b).map_err(|e| self.lcp_error(e))?;
+        let k = self.len();
+        let mut held = ActiveSet::empty();
+        for i in 0..k {
+            let terms: f64 = (0..k)
+                .map(|j| (self.delassus[i * k + j] * solution.z[j]).abs())
+                .sum();
+            let round = self.normals[i].h_ddot_round_off + ROUND_OFF * terms;
+            if solution.w[i] <= round {
+                held = held.with(self.indices[i]);
+            }
+        }
+        Ok(held)
+    }
+
+    /// The impact law on the set (the generalized Newton law): the impulses `Λ ≥ 0` solve
+    /// `0 ≤ Λ ⊥ W Λ + (1 + e) ∘ A q̇⁻ ≥ 0`, and `q̇⁺ = q̇⁻ + M⁻¹ Aᵀ Λ`, so that
+    /// `Aᵢ q̇⁺ ≥ −eᵢ Aᵢ q̇⁻` with equality where `Λᵢ > 0`. Returns `Λ`, in the set's order.
+    pub fn impact(
+        &self,
+        restitution: &[f64],
+        q_dot: &mut [f64],
+    ) -> Result<Vec<f64>, DynamicsError> {
+        let c: Vec<f64> = self
+            .normals
+            .iter()
+            .zip(restitution)
+            .map(|(n, e)| (1.0 + e) * n.a_q_dot)
+            .collect();
+        let solution = lcp::solve(&self.delassus, &c).map_err(|e| self.lcp_error(e))?;
+        self.add_directions(&solution.z, q_dot);
+        if q_dot.iter().all(|v| v.is_finite()) {
+            Ok(solution.z)
+        } else {
+            Err(DynamicsError::NonFinite)
+        }
+    }
+
+    /// The projection's failure, named after the constraint with the largest `|h|`.
+    fn projection_error(&self) -> DynamicsError {
+        let worst = (0..self.len())
+            .max_by(|&i, &j| self.h[i].abs().total_cmp(&self.h[j].abs()))
+            .unwrap_or(0);
+        DynamicsError::Projection {
+            constraint: self.indices[worst],
+            residual: self.h[worst].abs(),
+        }
+    }
+
+    fn lcp_error(&self, error: lcp::LcpError) -> DynamicsError {
+        match error {
+            lcp::LcpError::NonFinite => DynamicsError::NonFinite,
+            lcp::LcpError::Unsolvable | lcp::LcpError::IterationLimit => {
+                DynamicsError::ContactProblem {
+                    constraints: self.set,
+                }
+            }
+        }
+    }
+}
+
+/// The Cholesky factor of a small symmetric positive definite matrix (`W`).
+pub(crate) struct Cholesky {
+    k: usize,
+    l: Vec<f64>,
+}
+
+impl Cholesky {
+    /// The factor of `a` (`k × k`, row-major), `None` unless every pivot is positive and above
+    /// [`DEPENDENT_PIVOT`] times its diagonal entry.
+    pub fn new(a: &[f64], k: usize) -> Option<Self> {
+        let mut l = vec![0.0; k * k];
+        for j in 0..k {
+            let mut d = a[j * k + j];
+            for p in 0..j {
+                d -= l[j * k + p] * l[j * k + p];
+            }
+            let clear = d > DEPENDENT_PIVOT * a[j * k + j] && d.is_finite();
+            if !clear {
+                return None;
+            }
+            let l_jj = d.sqrt();
+            l[j * k + j] = l_jj;
+            for i in j + 1..k {
+                let mut s = a[i * k + j];
+                for p in 0..j {
+                    s -= l[i * k + p] * l[j * k + p];
+                }
+                l[i * k + j] = s / l_jj;
+            }
+        }
+        Some(Self { k, l })
+    }
+
+    /// `a⁻¹ b`.
+    pub fn solve(&self, b: &[f64]) -> Vec<f64> {
+        let (k, l) = (self.k, &self.l);
+        let mut y = b.to_vec();
+        for i in 0..k {
+            let mut s = y[i];
+            for p in 0..i {
+                s -= l[i * k + p] * y[p];
+            }
+            y[i] = s / l[i * k + i];
+        }
+        for i in (0..k).rev() {
+            let mut s = y[i];
+            for p in i + 1..k {
+                s -= l[p * k + i] * y[p];
+            }
+            y[i] = s / l[i * k + i];
+        }
+        y
+    }
+
+    /// `a⁻¹`, row-major.
+    pub fn inverse(&self) -> Vec<f64> {
+        let k = self.k;
+        let mut inverse = vec![0.0; k * k];
+        let mut e = vec![0.0; k];
+        for j in 0..k {
+            e.iter_mut().for_each(|x| *x = 0.0);
+            e[j] = 1.0;
+            for (i, x) in self.solve(&e).into_iter().enumerate() {
+                inverse[i * k + j] = x;
+            }
+        }
+        inverse
+    }
+}
+
+/// The motion held on a set of two or more constraints: `q̈ = M⁻¹f − Σ M⁻¹Aᵢᵀ λᵢ` with
+/// `W λ = ḧ_free`, into `q_ddot`; returns the contacts and `λ`.
+pub(crate) fn held_acceleration<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    q: &[f64],
+    q_dot: &[f64],
+    q_ddot: &mut [f64],
+) -> Result<(Contacts, Vec<f64>), DynamicsError> {
+    mech.acceleration(q, q_dot, None, q_ddot)?;
+    let contacts = Contacts::at(mech, set, q, q_dot).map_err(|(e, _)| e)?;
+    let lambda = contacts.held_multipliers(&contacts.factor()?);
+    let minus: Vec<f64> = lambda.iter().map(|l| -l).collect();
+    contacts.add_directions(&minus, q_ddot);
+    if q_ddot.iter().chain(&lambda).all(|x| x.is_finite()) {
+        Ok((contacts, lambda))
+    } else {
+        Err(DynamicsError::NonFinite)
+    }
+}
+
+/// `R∞` onto a set: `q` onto `hᵢ = 0` for every constraint of the set by Newton steps along
+/// `M⁻¹Aᵀ` (`W δ = h`, `q ← q − M⁻¹Aᵀ δ`), then `q̇` by the plastic projection onto `A q̇ = 0`
+/// (`W μ = A q̇`, `q̇ ← q̇ − M⁻¹Aᵀ μ`), which keeps every momentum the constraints do not touch.
+pub(crate) fn project<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    q: &mut [f64],
+    q_dot: &mut [f64],
+) -> Result<(), DynamicsError> {
+    const MAX_NEWTON: usize = 30;
+    let name_first = |e: (DynamicsError, usize)| e.0;
+    let mut best = f64::INFINITY;
+    for _ in 0..MAX_NEWTON {
+        let c = Contacts::at(mech, set, q, q_dot).map_err(name_first)?;
+        if !c.h.iter().all(|h| h.is_finite()) {
+            return Err(DynamicsError::NonFinite);
+        }
+        let factor = c.factor()?;
+        // Each h against the size of its terms: the largest relative residual decides.
+        let size =
+            c.h.iter()
+                .zip(&c.h_scale)
+                .map(|(h, s)| h.abs() / s.max(1.0))
+                .fold(0.0, f64::max);
+        if size <= 4.0 * f64::EPSILON || size >= best {
+            let a_q_dot: Vec<f64> = c.normals.iter().map(|n| n.a_q_dot).collect();
+            let mu: Vec<f64> = factor.solve(&a_q_dot).iter().map(|m| -m).collect();
+            c.add_directions(&mu, q_dot);
+            if size > 1e-12 {
+                return Err(c.projection_error());
+            }
+            return Ok(());
+        }
+        best = size;
+        let delta: Vec<f64> = factor.solve(&c.h).iter().map(|d| -d).collect();
+        c.add_directions(&delta, q);
+    }
+    let c = Contacts::at(mech, set, q, q_dot).map_err(name_first)?;
+    Err(c.projection_error())
+}
