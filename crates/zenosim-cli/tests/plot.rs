@@ -469,6 +469,48 @@ fn a_rerun_without_plot_removes_the_old_plots() {
     );
 }
 
+/// With impacts on several constraints (the corner: the floor's, then the wall's while the
+/// floor holds), each constraint's impacts are marked on a row of their own, named, and the
+/// switch onto both walls names them.
+#[test]
+fn impacts_are_marked_per_constraint_and_a_switch_names_its_set() {
+    let source = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/corner.toml"),
+    )
+    .unwrap();
+    let scratch = Scratch::new(&source);
+    assert_exit(&scratch.run(&["--plot"]), 0);
+    let s = summary(&scratch.path("out"));
+    let svg = text(&scratch.path("out/velocities.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    for name in ["wall", "floor"] {
+        let count = s["events"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|e| e["kind"] == "impact" && e["constraint"] == name)
+            .count();
+        let marks = inside(&groups(&doc, "impacts", Some(name)), "circle");
+        assert_eq!(marks.len(), count, "{name}");
+        assert!(texts(&doc).contains(&format!("impact on {name} ({count})")));
+    }
+    // The rows are apart: every wall mark on one height, every floor mark on another.
+    let height = |name| {
+        let marks = inside(&groups(&doc, "impacts", Some(name)), "circle");
+        let ys: Vec<f64> = marks.iter().map(|c| centre(c).1).collect();
+        assert!(ys.windows(2).all(|w| w[0] == w[1]), "{name}");
+        ys[0]
+    };
+    assert!((height("wall") - height("floor")).abs() >= 8.0);
+    let labels: Vec<String> = texts(&doc);
+    assert!(
+        labels
+            .iter()
+            .any(|t| t.starts_with("switch to constrained motion on wall+floor")),
+        "{labels:?}"
+    );
+}
+
 // ----- refusals -------------------------------------------------------------------------------
 
 /// `zenosim plot <args>` refused with exit 2 and an `error: ` message, which it returns.

@@ -46,18 +46,32 @@
 //! The solver first scales `m` and `q`, each by a power of two (exactly), so that their largest
 //! entries lie in `[1, 2)`; all tolerances then apply to numbers of order one, and the answer does
 //! not depend on the units of `m` and `q` (nothing overflows or underflows at `10¹⁵⁰` or
-//! `10⁻¹⁵⁰`). After the pivoting, negative round-off in `z` is set to 0 and `w = m z + q` is
-//! recomputed from the data; then `m_SS z_S = −q_S` is solved once on the support
-//! `S = {i : zᵢ > 0}` by Gaussian elimination with partial pivoting, and that refined `z` is kept
-//! if it is at least as good a solution (by the natural residual `maxᵢ |min(zᵢ, wᵢ)|`). Matrices
-//! up to `k ≈ 64` are meant; larger ones work, but slowly.
+//! `10⁻¹⁵⁰`). Every tolerance is relative to the size of the terms a number is computed from:
+//! a pivot must stand out of the round-off of its column, ratios tie when they agree up to the
+//! round-off of the basic variables they move (rank-deficient matrices make exact ties that
+//! round-off would otherwise break at random).
+//!
+//! After the pivoting, negative round-off in `z` is set to 0 and `w = m z + q` is recomputed from
+//! the data; then `m_SS z_S = −q_S` is solved once on the support `S = {i : zᵢ > 0}` by Gaussian
+//! elimination with partial pivoting, and that refined `z` is kept if it is at least as good. The
+//! answer is returned only if it passes a check free of units (`w ≥ 0` and `zᵢ wᵢ = 0` to `10⁻⁹`
+//! of the terms of `m z + q`); if not, or if the pivoting failed, Lemke's method runs once more,
+//! treating as zero the pivots below `10⁻⁸` of their column instead of `10⁻¹²` (constraints that
+//! are dependent to that precision are then taken as dependent). A problem that is solvable but
+//! so ill-conditioned that neither pass yields an answer that passes the check (in tests:
+//! constraints that coincide to between `10⁻⁶` and `10⁻⁹`, a few in `10⁵` such cases) is reported
+//! as [`LcpError::Unsolvable`]: an inaccurate answer is never returned. Matrices up to `k ≈ 64`
+//! are meant; larger ones work, but slowly.
 
 /// Why no solution was returned.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum LcpError {
     /// Lemke's method ended on a secondary ray: the entering column had no positive entry. For a
     /// positive semi-definite (more generally copositive-plus) matrix this proves that the problem
-    /// has no solution; for other matrices it may have one that the method cannot reach.
+    /// has no solution; for other matrices it may have one that the method cannot reach. Also
+    /// returned, rarely, when the pivoting ended with an answer that is not a solution to the
+    /// accuracy required (`10⁻⁹` relative): a matrix so ill-conditioned (nearly dependent
+    /// constraints) that the digits were lost.
     #[error("the problem has no solution (Lemke's method ended on a secondary ray)")]
     Unsolvable,
     /// The pivoting took more than `50 (k+1)²` pivots (it does not cycle, but Lemke's method can
@@ -65,8 +79,7 @@ pub enum LcpError {
     #[error("the pivoting did not end within its limit")]
     IterationLimit,
     /// `m` or `q` has a NaN or infinite entry. Also returned, exceptionally, when the computation
-    /// itself overflows (a solution too large for `f64`, or a matrix singular to working
-    /// precision).
+    /// itself overflows (a solution too large for `f64`).
     #[error("the problem has a non-finite entry")]
     NonFinite,
 }
@@ -83,12 +96,20 @@ pub struct Solution {
 /// How many pivots, per `(k+1)²`, the pivoting may take.
 const ITERATIONS_PER_SQUARE: usize = 50;
 
-/// An entry `d̄ᵢ` of the entering column is a pivot candidate when it exceeds this times the
-/// size of what it was computed from, `‖(B⁻¹)ᵢ·‖₁ ‖aₑ‖∞` (`aₑ` the entering column of the
-/// original tableau): below that it is indistinguishable from a cancelled 0 (about `4500 ε`,
-/// room for the round-off of many pivots, yet far below any pivot of a reasonably conditioned
-/// Delassus matrix).
-const PIVOT_TOLERANCE: f64 = 1e-12;
+/// An entry `d̄ᵢ` of the entering column is a pivot candidate when it exceeds a tolerance times
+/// the size of what it was computed from, `‖(B⁻¹)ᵢ·‖₁ ‖aₑ‖∞` (`aₑ` the entering column of the
+/// original tableau). The first pass takes `1e-12` (about `4500 ε`: room for the round-off of
+/// many pivots, far below the pivots of a reasonably conditioned matrix). If its answer fails
+/// [`ACCEPTANCE`] (constraints dependent up to `~1e-10`, whose pivots are tiny but not round-off,
+/// leave a basis too ill-conditioned to keep the digits) or it ends without one, a second pass
+/// takes `1e-8`: constraints dependent to that precision are then treated as dependent.
+const PIVOT_TOLERANCES: [f64; 2] = [1e-12, 1e-8];
+
+/// An answer is accepted when, in every row, `−wᵢ` and `min(zᵢ / ‖z‖∞, |wᵢ| / termsᵢ)` are at most
+/// this, `termsᵢ = |qᵢ| + Σⱼ |mᵢⱼ zⱼ|` (nonnegativity of `w` and complementarity, relative to the
+/// size of what `w` is computed from; free of units). Answers of the support system after a
+/// correct pivoting meet it with a margin of several orders.
+const ACCEPTANCE: f64 = 1e-9;
 
 /// The round-off of a basic variable `b̄ⱼ − θ d̄ⱼ` is taken as this times the size of what it is
 /// computed from, `‖(B⁻¹)ⱼ·‖₁ (‖q‖∞ + |θ| ‖aₑ‖∞)`, in the scaled units. A pivot row whose ratio
@@ -118,8 +139,10 @@ const SINGULAR_TOLERANCE: f64 = 1e3 * f64::EPSILON;
 ///
 /// - [`LcpError::NonFinite`] if an entry of `m` or `q` is NaN or infinite;
 /// - [`LcpError::Unsolvable`] if the pivoting ends on a secondary ray (for a positive
-///   semi-definite `m`: the problem has no solution);
-/// - [`LcpError::IterationLimit`] if it takes more than `50 (k+1)²` pivots.
+///   semi-definite `m`: the problem has no solution), or, rarely, with an answer that fails the
+///   accuracy check (see the [module](self) documentation);
+/// - [`LcpError::IterationLimit`] if it takes more than `50 (k+1)²` pivots (in each of its at
+///   most two passes).
 ///
 /// # Panics
 ///
@@ -195,15 +218,26 @@ fn solve_with_limit(m: &[f64], q: &[f64], limit: usize) -> Result<Solution, LcpE
     let eq = magnitude_exponent(q);
     let ms: Vec<f64> = m.iter().map(|&x| mul_pow2(x, -em)).collect();
     let qs: Vec<f64> = q.iter().map(|&x| mul_pow2(x, -eq)).collect();
-    let zs = lemke(&ms, &qs, limit)?;
-    let zs = polish(&ms, &qs, zs);
-    let ws = affine(&ms, &qs, &zs);
-    let z: Vec<f64> = zs.iter().map(|&x| mul_pow2(x, eq - em)).collect();
-    let w: Vec<f64> = ws.iter().map(|&x| mul_pow2(x, eq)).collect();
-    if !z.iter().chain(&w).all(|x| x.is_finite()) {
-        return Err(LcpError::NonFinite);
+    let mut first_error = None;
+    for pivot_tolerance in PIVOT_TOLERANCES {
+        let error = match lemke(&ms, &qs, limit, pivot_tolerance) {
+            Ok(zs) => {
+                let (zs, ws, violation) = polish(&ms, &qs, zs);
+                if violation <= ACCEPTANCE {
+                    let z: Vec<f64> = zs.iter().map(|&x| mul_pow2(x, eq - em)).collect();
+                    let w: Vec<f64> = ws.iter().map(|&x| mul_pow2(x, eq)).collect();
+                    if !z.iter().chain(&w).all(|x| x.is_finite()) {
+                        return Err(LcpError::NonFinite);
+                    }
+                    return Ok(Solution { z, w });
+                }
+                LcpError::Unsolvable
+            }
+            Err(error) => error,
+        };
+        first_error.get_or_insert(error);
     }
-    Ok(Solution { z, w })
+    Err(first_error.unwrap_or(LcpError::Unsolvable))
 }
 
 /// The exponent `e` with `2^e ≤ maxᵢ |xᵢ| < 2^(e+1)`; 0 if all entries are 0. Entries finite.
@@ -259,12 +293,13 @@ fn affine(m: &[f64], q: &[f64], z: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// Lemke's method on the scaled problem; returns `z` (with possible round-off below 0).
+/// Lemke's method on the scaled problem; returns `z` (with possible round-off below 0), to be
+/// checked. `pivot_tolerance` is one of [`PIVOT_TOLERANCES`].
 ///
 /// The tableau has `k` rows and the columns `w₀…w_{k−1}`, `z₀…z_{k−1}`, the auxiliary variable
 /// and the right-hand side; it starts as `[I | −m | −e | q]` and always equals `B⁻¹ [I | −m | −e
 /// | q]`, so its `w` columns hold `B⁻¹`.
-fn lemke(m: &[f64], q: &[f64], limit: usize) -> Result<Vec<f64>, LcpError> {
+fn lemke(m: &[f64], q: &[f64], limit: usize, pivot_tolerance: f64) -> Result<Vec<f64>, LcpError> {
     let k = q.len();
     let width = 2 * k + 2;
     let aux = 2 * k;
@@ -316,7 +351,7 @@ fn lemke(m: &[f64], q: &[f64], limit: usize) -> Result<Vec<f64>, LcpError> {
                 return Err(LcpError::NonFinite);
             }
             inverse_norms[i] = row[..k].iter().map(|x| x.abs()).sum();
-            if d > PIVOT_TOLERANCE * inverse_norms[i] * column_norm {
+            if d > pivot_tolerance * inverse_norms[i] * column_norm {
                 let ratio = row[rhs] / d;
                 candidates.push((i, ratio));
                 if smallest.is_none_or(|(_, theta)| ratio < theta) {
@@ -326,18 +361,13 @@ fn lemke(m: &[f64], q: &[f64], limit: usize) -> Result<Vec<f64>, LcpError> {
         }
         let Some((smallest_row, _)) = smallest else {
             // A secondary ray. If z₀ is 0 up to round-off here, the basis is complementary
-            // after all: a solution.
+            // after all: a solution (checked, like every answer, by the caller).
             let r = aux_row(&basis, aux);
             if t[r * width + rhs] <= VALUE_TOLERANCE * inverse_norms[r] * q_norm {
                 return Ok(basic_z(&t, width, &basis, k));
             }
             return Err(LcpError::Unsolvable);
         };
-        if std::env::var("LCP_TRACE").is_ok() {
-            eprintln!("basis {basis:?} entering {entering}");
-            for row in t.chunks_exact(width) { eprintln!("  {row:?}"); }
-            eprintln!("  candidates {candidates:?}");
-        }
         // The ties: rows whose ratio θᵢ leaves every candidate's basic variable
         // b̄ⱼ − θᵢ d̄ⱼ ≥ 0 up to its round-off (exactly the rows of the minimum ratio, in exact
         // arithmetic). The rows of the minimum ratio are always among them.
@@ -445,30 +475,51 @@ fn pivot(t: &mut [f64], width: usize, r: usize, c: usize, buffer: &mut [f64]) {
     }
 }
 
-/// Cleans Lemke's `z` (negative round-off set to 0) and refines it once on its support.
-fn polish(m: &[f64], q: &[f64], mut z: Vec<f64>) -> Vec<f64> {
+/// Cleans Lemke's `z` (negative round-off set to 0) and refines it once on its support; returns
+/// the better of the two (by [`violation`]), its `w = m z + q`, and its violation.
+fn polish(m: &[f64], q: &[f64], mut z: Vec<f64>) -> (Vec<f64>, Vec<f64>, f64) {
     for x in &mut z {
         if *x < 0.0 {
             *x = 0.0;
         }
     }
-    let base = natural_residual(&z, &affine(m, q, &z));
+    let w = affine(m, q, &z);
+    let base = violation(m, q, &z, &w);
     if let Some(refined) = support_solve(m, q, &z) {
-        if natural_residual(&refined, &affine(m, q, &refined)) <= base {
-            return refined;
+        let refined_w = affine(m, q, &refined);
+        let refined_violation = violation(m, q, &refined, &refined_w);
+        if refined_violation <= base {
+            return (refined, refined_w, refined_violation);
         }
     }
-    z
+    (z, w, base)
 }
 
-/// `maxᵢ |min(zᵢ, wᵢ)|`, zero exactly at solutions; infinite if anything is not finite.
-fn natural_residual(z: &[f64], w: &[f64]) -> f64 {
+/// How far `(z ≥ 0, w = m z + q)` is from a solution, free of units: the largest over the rows
+/// of `(−wᵢ)⁺ / termsᵢ` and `min(zᵢ / ‖z‖∞, |wᵢ| / termsᵢ)`, `termsᵢ = |qᵢ| + Σⱼ |mᵢⱼ zⱼ|`
+/// (a row whose terms are all 0 has `wᵢ = 0`); infinite if anything is not finite.
+fn violation(m: &[f64], q: &[f64], z: &[f64], w: &[f64]) -> f64 {
+    let k = q.len();
+    let z_norm = z.iter().fold(0.0_f64, |acc, x| acc.max(x.abs()));
     let mut worst = 0.0_f64;
-    for (&zi, &wi) in z.iter().zip(w) {
-        if !(zi.is_finite() && wi.is_finite()) {
+    for i in 0..k {
+        let terms = m[i * k..(i + 1) * k]
+            .iter()
+            .zip(z)
+            .fold(q[i].abs(), |acc, (mij, zj)| acc + (mij * zj).abs());
+        if !(terms.is_finite() && w[i].is_finite() && z[i].is_finite()) {
             return f64::INFINITY;
         }
-        worst = worst.max(zi.min(wi).abs());
+        if terms == 0.0 {
+            continue;
+        }
+        let negative = (-w[i]).max(0.0) / terms;
+        let complementary = if z_norm > 0.0 {
+            (z[i] / z_norm).min(w[i].abs() / terms)
+        } else {
+            0.0
+        };
+        worst = worst.max(negative).max(complementary);
     }
     worst
 }
@@ -640,6 +691,20 @@ mod tests {
         m
     }
 
+    /// `W = A D Aᵀ` and `q = A v`, `A` `k×n` row-major, `D` diagonal.
+    fn delassus(a: &[f64], d: &[f64], v: &[f64], k: usize, n: usize) -> (Vec<f64>, Vec<f64>) {
+        let mut w = vec![0.0; k * k];
+        for i in 0..k {
+            for j in 0..k {
+                w[i * k + j] = (0..n).map(|l| a[i * n + l] * d[l] * a[j * n + l]).sum();
+            }
+        }
+        let q = (0..k)
+            .map(|i| (0..n).map(|l| a[i * n + l] * v[l]).sum())
+            .collect();
+        (w, q)
+    }
+
     fn config(cases: u32) -> ProptestConfig {
         ProptestConfig {
             cases,
@@ -658,7 +723,7 @@ mod tests {
     }
 
     proptest! {
-        #![proptest_config(config(30000))]
+        #![proptest_config(config(256))]
 
         #[test]
         fn symmetric_positive_definite_matches_enumeration(
@@ -705,83 +770,43 @@ mod tests {
             let m = gram(&b, k, r, 0.0);
             let solvable = !oracle(&m, &q).is_empty();
             match solve(&m, &q) {
-                Ok(s) => prop_assert!(is_solution(&m, &q, &s.z, &s.w, tol_for(&m, &s.z)), "{:?}", s),
+                Ok(s) => {
+                    prop_assert!(is_solution(&m, &q, &s.z, &s.w, tol_for(&m, &s.z)), "{:?}", s)
+                }
                 Err(e) => prop_assert!(!solvable, "{} on a solvable problem", e),
             }
         }
 
         #[test]
         fn dependent_constraints_are_solved(
-            (k, n, a, d, v) in (1usize..=6).prop_flat_map(|k| (Just(k), 1..=k)).prop_flat_map(
-                |(k, n)| {
+            (k, n, a, d, v, copies) in (1usize..=6)
+                .prop_flat_map(|k| (Just(k), 1..=k))
+                .prop_flat_map(|(k, n)| {
                     (
                         Just(k),
                         Just(n),
                         vec_in(-1.0..1.0, k * n),
                         vec_in(0.2..5.0, n),
                         vec_in(-2.0..2.0, n),
+                        prop::collection::vec(0..=k, k),
                     )
-                },
-            )
+                })
         ) {
             // The Delassus matrix W = A M⁻¹ Aᵀ of k constraints on n ≤ k coordinates (M⁻¹ = D
             // diagonal), computed in floating point, and q = A v: q lies in the range of W, so a
             // solution exists (the problem is that of minimising ½ zᵀ W z + qᵀ z on z ≥ 0, which
-            // is bounded below), and w is the same for all solutions.
-            let mut w_matrix = vec![0.0; k * k];
-            for i in 0..k {
-                for j in 0..k {
-                    w_matrix[i * k + j] =
-                        (0..n).map(|l| a[i * n + l] * d[l] * a[j * n + l]).sum::<f64>();
-                }
-            }
-            let q: Vec<f64> = (0..k).map(|i| (0..n).map(|l| a[i * n + l] * v[l]).sum()).collect();
-            let s = solve(&w_matrix, &q).map_err(|e| TestCaseError::fail(format!("{e}")))?;
-            prop_assert!(
-                is_solution(&w_matrix, &q, &s.z, &s.w, tol_for(&w_matrix, &s.z)),
-                "{:?}",
-                s
-            );
-        }
-
-        #[test]
-        fn dependent_heavy_tmp(
-            (k, n, a, c, v, dup, near) in (1usize..=10).prop_flat_map(|k| (Just(k), 1..=k)).prop_flat_map(
-                |(k, n)| {
-                    (
-                        Just(k),
-                        Just(n),
-                        vec_in(-1.0..1.0, k * n),
-                        vec_in(-1.0..1.0, n * n),
-                        vec_in(-2.0..2.0, n),
-                        prop::collection::vec(0..k, k),
-                        -16.0..-6.0f64,
-                    )
-                },
-            )
-        ) {
-            // Rows copied from other rows (some exactly, some with a relative change 10^near).
+            // is bounded below), and w is the same for all solutions. Some rows of A are copies
+            // of earlier ones (the same constraint twice), some are 0.
             let mut a = a;
-            for i in 0..k {
-                let src = dup[i];
-                if src < i && i % 3 != 0 {
-                    for l in 0..n {
-                        let x = a[src * n + l];
-                        a[i * n + l] = if i % 2 == 0 { x } else { x * (1.0 + 10f64.powf(near) * (l as f64 - 0.5)) };
-                    }
+            for (i, &source) in copies.iter().enumerate() {
+                if source < i {
+                    let row: Vec<f64> = a[source * n..(source + 1) * n].to_vec();
+                    a[i * n..(i + 1) * n].copy_from_slice(&row);
+                } else if source == k && i % 2 == 1 {
+                    a[i * n..(i + 1) * n].fill(0.0);
                 }
             }
-            // M⁻¹ = C Cᵀ + 0.01 I.
-            let minv = gram(&c, n, n, 0.01);
-            let mut am = vec![0.0; k * n];
-            for i in 0..k { for j in 0..n { am[i * n + j] = (0..n).map(|l| a[i * n + l] * minv[l * n + j]).sum(); } }
-            let mut w_matrix = vec![0.0; k * k];
-            for i in 0..k {
-                for j in 0..k {
-                    w_matrix[i * k + j] = (0..n).map(|l| am[i * n + l] * a[j * n + l]).sum::<f64>();
-                }
-            }
-            let q: Vec<f64> = (0..k).map(|i| (0..n).map(|l| a[i * n + l] * v[l]).sum()).collect();
+            let (w_matrix, q) = delassus(&a, &d, &v, k, n);
             let s = solve(&w_matrix, &q).map_err(|e| TestCaseError::fail(format!("{e}")))?;
             prop_assert!(
                 is_solution(&w_matrix, &q, &s.z, &s.w, tol_for(&w_matrix, &s.z)),
@@ -791,11 +816,12 @@ mod tests {
         }
 
         #[test]
-        fn ill_conditioned_tmp(
+        fn ill_conditioned_positive_definite_is_solved(
             (k, b, delta, q) in (1usize..=8).prop_flat_map(|k| {
-                (Just(k), vec_in(-1.0..1.0, k * k), -13.0..-6.0f64, vec_in(-2.0..2.0, k))
+                (Just(k), vec_in(-1.0..1.0, k * k), -12.0..-6.0f64, vec_in(-2.0..2.0, k))
             })
         ) {
+            // b bᵀ + δ I, condition numbers up to about 10¹³.
             let m = spd(&b, k, 10f64.powf(delta));
             let s = solve(&m, &q).map_err(|e| TestCaseError::fail(format!("{e}")))?;
             prop_assert!(is_solution(&m, &q, &s.z, &s.w, tol_for(&m, &s.z)), "{:?}", s);
@@ -843,24 +869,6 @@ mod tests {
             let z = vec![0.0; k];
             let _ = is_solution(&m, &q, &z, &q, TOL);
         }
-    }
-
-    #[test]
-    fn trace_case() {
-        let (k, n) = (4, 2);
-        let mut a = vec![0.35526714460128883,-0.9169712851365855,0.0,0.0,0.0,0.0,0.0,0.5272753298700514];
-        let near = -9.766793216790258f64;
-        for i in 1..3 { for l in 0..n { let x = a[l]; a[i * n + l] = if i % 2 == 0 { x } else { x * (1.0 + 10f64.powf(near) * (l as f64 - 0.5)) }; } }
-        let v = [-1.6585215694550068,1.5929978408197838];
-        let mut w_matrix = vec![0.0; k * k];
-        for i in 0..k { for j in 0..k { w_matrix[i * k + j] = (0..n).map(|l| a[i * n + l] * 0.01 * a[j * n + l]).sum::<f64>(); } }
-        let q: Vec<f64> = (0..k).map(|i| (0..n).map(|l| a[i * n + l] * v[l]).sum()).collect();
-        eprintln!("m {w_matrix:?}\nq {q:?}");
-        let r = solve(&w_matrix, &q);
-        eprintln!("{r:?}");
-        let z = lemke(&w_matrix.iter().map(|x| x * 64.0).collect::<Vec<_>>(), &q.iter().map(|x| x / 2.0).collect::<Vec<_>>(), 100);
-        eprintln!("raw {z:?}");
-        eprintln!("oracle {:?}", oracle(&w_matrix, &q));
     }
 
     #[test]
@@ -947,6 +955,67 @@ mod tests {
         assert!(!expected.is_empty());
         for z in &expected {
             assert!(max_diff(&affine(&m, &q, z), &sol.w) <= 1e-12);
+        }
+    }
+
+    #[test]
+    fn rank_deficient_exact_ties() {
+        // Found by search: W of rank 2 with two zero rows; z₀ and w₁ reach 0 together, their
+        // computed ratios 10⁻⁹ apart (the entries of the entering column are small, from
+        // cancellation). The tie must go to z₀, and a secondary ray reached with z₀ at its
+        // round-off is a solution.
+        let a = [
+            -0.9051669251637597,
+            0.7680726735840228,
+            0.5672845789673489,
+            0.0,
+            0.6815291567051781,
+            -0.5789852552958722,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ];
+        let (m, q) = delassus(
+            &a,
+            &[0.6788772307527456, 1.472347034158464],
+            &[0.8165882834494105, 0.0],
+            5,
+            2,
+        );
+        let s = solve(&m, &q).unwrap();
+        assert!(is_solution(&m, &q, &s.z, &s.w, tol_for(&m, &s.z)), "{s:?}");
+    }
+
+    #[test]
+    fn nearly_dependent_constraints() {
+        // Found by search: rows 0 and 2 of A equal, row 1 equal to 10⁻¹⁰; the first pivoting
+        // passes through a basis with ‖B⁻¹‖ ≈ 10¹⁰ and ends with w₃ = −0.18: that answer must
+        // not be returned (the second pass treats the rows as dependent).
+        let (k, n) = (4, 2);
+        let near = 10f64.powf(-9.766793216790258);
+        let row = [0.35526714460128883, -0.9169712851365855];
+        let a = [
+            row[0],
+            row[1],
+            row[0] * (1.0 - 0.5 * near),
+            row[1] * (1.0 + 0.5 * near),
+            row[0],
+            row[1],
+            0.0,
+            0.5272753298700514,
+        ];
+        let (m, q) = delassus(
+            &a,
+            &[0.01; 2],
+            &[-1.6585215694550068, 1.5929978408197838],
+            k,
+            n,
+        );
+        let s = solve(&m, &q).unwrap();
+        assert!(is_solution(&m, &q, &s.z, &s.w, tol_for(&m, &s.z)), "{s:?}");
+        for w in &s.w {
+            assert!(*w >= -1e-9, "{s:?}");
         }
     }
 

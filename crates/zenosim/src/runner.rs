@@ -620,12 +620,14 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         if let ZenoStrategy::Epsilon(eps) = self.sim.options.zeno {
             // The paper's rule, on the state just before the impact.
             // The crossing is replaced by R∞: it is no impact, and not counted as one.
-            let alternating = self.accumulation.constraints().with(index);
-            if alternating.len() > 1 {
-                // An accumulation over several constraints: the rule on all of them.
-                if self.epsilon_met(alternating, &before, eps)? {
+            let candidates = self.accumulation.constraints().with(index);
+            let near = self.within_epsilon(candidates, &before, eps);
+            if near.len() > 1 && near.contains(index) {
+                // An accumulation over several constraints: the rule on all of them that are
+                // within ε of their surfaces.
+                if self.epsilon_met(near, &before, eps)? {
                     let p = self.accumulation.predict();
-                    return self.switch_set(index, alternating, t, before, p);
+                    return self.switch_set(index, near, t, before, p);
                 }
             } else if h.abs() <= eps && normal.a_q_dot.abs() <= eps {
                 let round_off = (e * normal.a_q_dot_round_off, normal.h_ddot_round_off);
@@ -1027,10 +1029,12 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let n = self.n;
         let accumulating = self.accumulation.constraints().with(index);
         if let ZenoStrategy::Epsilon(eps) = self.sim.options.zeno {
-            let all = accumulating.union(set);
-            if self.epsilon_met(all, &before, eps)? {
+            // The paper's rule on every constraint of the accumulation and of the impact that
+            // is within ε of its surface (the held ones are on theirs).
+            let near = self.within_epsilon(accumulating.union(set), &before, eps);
+            if near.contains(index) && self.epsilon_met(near, &before, eps)? {
                 let p = self.accumulation.predict();
-                return self.switch_set(index, all, t, before, p);
+                return self.switch_set(index, near, t, before, p);
             }
         }
         let restitution: Vec<f64> = set
@@ -1118,6 +1122,14 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         contacts
             .held_set()
             .map_err(|err| self.fail_dynamics(err, t, y))
+    }
+
+    /// The constraints of `set` within `ε` of their surfaces at `y` (`|h| ≤ ε`).
+    fn within_epsilon(&self, set: ActiveSet, y: &[f64], eps: f64) -> ActiveSet {
+        let q = &y[..self.n];
+        set.iter()
+            .filter(|&i| self.sim.model.constraint::<f64>(i, q).abs() <= eps)
+            .fold(ActiveSet::empty(), ActiveSet::with)
     }
 
     /// Whether the paper's ε rule holds on every constraint of `set` at `y`.

@@ -64,8 +64,11 @@ pub struct FinalRecord {
 /// A Zeno point.
 #[derive(Debug, Deserialize)]
 pub struct ZenoRecord {
-    /// The constraint whose impacts accumulate.
+    /// The constraint of the accumulation's last impact.
     pub constraint: String,
+    /// Every constraint of the accumulation (schema 2; empty in older summaries).
+    #[serde(default)]
+    pub constraints: Vec<String>,
     /// `genuine` or `chattering`.
     pub kind: String,
     /// The switch to the constrained motion (or the stop, when stalled).
@@ -195,6 +198,21 @@ impl Record {
     }
 
     /// The times of the events of `kind`.
+    /// The impact times of each constraint that was reached, in the constraints' order, with
+    /// the constraint's name; constraints never reached are left out.
+    pub fn impacts_by_constraint(&self) -> Vec<(&str, Vec<f64>)> {
+        let mut by: Vec<(&str, Vec<f64>)> = Vec::new();
+        for e in self.events.iter().filter(|e| e.kind == "impact") {
+            match by.iter_mut().find(|(name, _)| *name == e.constraint) {
+                Some((_, times)) => times.push(e.t),
+                None => by.push((&e.constraint, vec![e.t])),
+            }
+        }
+        let order = |name: &str| self.constraints.iter().position(|c| c == name);
+        by.sort_by_key(|(name, _)| order(name));
+        by
+    }
+
     pub fn times(&self, kind: &str) -> Vec<f64> {
         self.events
             .iter()

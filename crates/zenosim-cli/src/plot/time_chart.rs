@@ -7,7 +7,7 @@ use plotters::coord::cartesian::Cartesian2d;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::{
-    Circle, Color, DrawingArea, EmptyElement, LineSeries, PathElement, ShapeStyle, Text,
+    Circle, Color, DrawingArea, EmptyElement, LineSeries, PathElement, RGBColor, ShapeStyle, Text,
     TriangleMarker, WHITE,
 };
 use plotters::style::text_anchor::{HPos, VPos};
@@ -118,10 +118,25 @@ pub fn draw_time<DB: DrawingBackend>(
         .zip(&styles)
         .map(|(name, &style)| Entry::new(*name, Sample::Line(style)))
         .collect();
-    entries.push(Entry::new(
-        format!("impact ({})", impacts.len()),
-        Sample::Dot(IMPACT.filled(), 4),
-    ));
+    // With impacts on several constraints, each constraint's on a row of its own.
+    let by_constraint = record.impacts_by_constraint();
+    let rows: Vec<(String, Vec<f64>, RGBColor)> = if by_constraint.len() > 1 {
+        by_constraint
+            .into_iter()
+            .enumerate()
+            .map(|(k, (name, times))| (name.to_string(), times, impact_color(k)))
+            .collect()
+    } else {
+        vec![(String::new(), impacts.clone(), IMPACT)]
+    };
+    for (name, times, c) in &rows {
+        let label = if name.is_empty() {
+            format!("impact ({})", times.len())
+        } else {
+            format!("impact on {name} ({})", times.len())
+        };
+        entries.push(Entry::new(label, Sample::Dot(c.filled(), 4)));
+    }
     if !liftoffs.is_empty() {
         let label = format!("lift-off ({})", liftoffs.len());
         entries.push(Entry::new(label, Sample::Triangle(LIFTOFF.filled())));
@@ -134,14 +149,17 @@ pub fn draw_time<DB: DrawingBackend>(
         chart.draw_series(LineSeries::new(lines.lines[s].iter().copied(), style))?;
     }
     switches(&mut chart, layer, scene, (low, high))?;
-    // Every impact and lift-off, as a mark along the bottom.
-    layer.set("impacts", "");
-    let mark = IMPACT.filled();
-    chart.draw_series(
-        impacts
-            .iter()
-            .map(|&t| EmptyElement::at((t, low)) + Circle::new((0, -9), 4, mark)),
-    )?;
+    // Every impact and lift-off, as a mark along the bottom (a row per constraint reached,
+    // where there are several).
+    for (row, (name, times, c)) in rows.iter().enumerate() {
+        layer.set("impacts", name);
+        let (mark, dy) = (c.filled(), -9 - 10 * row as i32);
+        chart.draw_series(
+            times
+                .iter()
+                .map(|&t| EmptyElement::at((t, low)) + Circle::new((0, dy), 4, mark)),
+        )?;
+    }
     if !liftoffs.is_empty() {
         layer.set("liftoffs", "");
         let mark = LIFTOFF.filled();
@@ -152,6 +170,15 @@ pub fn draw_time<DB: DrawingBackend>(
         )?;
     }
     legend(area, &chart, layer, &entries)
+}
+
+/// The colour of the impact marks of the `k`-th constraint reached: the impact red first.
+fn impact_color(k: usize) -> RGBColor {
+    if k == 0 {
+        IMPACT
+    } else {
+        color(k + 3)
+    }
 }
 
 /// Draws every switch to the constrained motion (and a stall) as a labelled vertical line.
@@ -173,7 +200,12 @@ fn switches<DB: DrawingBackend>(
             format!("stalled at the Zeno point, τ∞ ≈ {}", short(tau))
         } else {
             layer.set("switch", &z.constraint);
-            format!("switch to constrained motion, t = {}", short(t))
+            if z.constraints.len() > 1 {
+                let set = z.constraints.join("+");
+                format!("switch to constrained motion on {set}, t = {}", short(t))
+            } else {
+                format!("switch to constrained motion, t = {}", short(t))
+            }
         };
         chart.draw_series([PathElement::new(
             vec![(t, low), (t, high)],

@@ -268,3 +268,71 @@ fn the_same_floor_twice_is_a_clear_error_where_it_must_hold() {
     }
     assert_eq!(run.t_final, *t);
 }
+
+/// A ball in a V-shaped groove `y ≥ k|x|` (two walls, `y − k x` and `y + k x`) under gravity,
+/// released off its axis.
+struct Groove {
+    slope: f64,
+    constraints: Vec<Constraint>,
+}
+
+impl HybridLagrangian for Groove {
+    const DIMENSION: Option<usize> = Some(2);
+    fn dimension(&self) -> usize {
+        2
+    }
+    fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
+        (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[1] * 9.81
+    }
+    fn constraints(&self) -> &[Constraint] {
+        &self.constraints
+    }
+    fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D {
+        let sign = if index == 0 { -1.0 } else { 1.0 };
+        q[1] + q[0] * (sign * self.slope)
+    }
+}
+
+/// Regression: in a shallow groove the ball settled onto one wall, slid to the vertex and
+/// stopped there with "simultaneous contacts are not supported"; in a steep one it bounced
+/// into the vertex again and again and no Zeno point was recognised. Now both come to rest at
+/// the vertex (0, 0), the only rest state, held by both walls, through a Zeno point on both.
+#[test]
+fn a_ball_in_a_groove_comes_to_rest_at_its_vertex() {
+    for slope in [0.5, 3.0] {
+        let model = Groove {
+            slope,
+            constraints: vec![Constraint::new("left", 0.5), Constraint::new("right", 0.5)],
+        };
+        let options = SimulationOptions {
+            t_end: 6.0,
+            ..Default::default()
+        };
+        let mut trajectory = Trajectory::default();
+        let x0 = 0.3;
+        let run = Simulation::new(&model, &[x0, slope * x0 + 0.5], &[0.0, 0.0], options)
+            .unwrap()
+            .run(&mut trajectory);
+        assert_eq!(run.outcome, Outcome::Finished, "k = {slope}");
+        let both = ActiveSet::single(0).with(1);
+        assert_eq!(run.final_mode, Mode::Constrained(both), "k = {slope}");
+        let s = &run.final_state;
+        assert!(
+            s.q.iter().chain(&s.q_dot).all(|x| x.abs() < 1e-9),
+            "k = {slope}: {s:?}"
+        );
+        assert!(
+            run.zeno.iter().any(|z| z.constraints == both),
+            "k = {slope}: {:?}",
+            run.zeno
+        );
+        for p in &trajectory.points {
+            assert!(p.h.iter().all(|&h| h >= -1e-9), "k = {slope}: {p:?}");
+        }
+        // The energy never rises across an impact: T⁺ ≤ T⁻ (law 2's energy balance).
+        for e in run.events.iter().filter(|e| e.kind == EventKind::Impact) {
+            let kinetic = |v: &[f64]| 0.5 * (v[0] * v[0] + v[1] * v[1]);
+            assert!(kinetic(&e.after.q_dot) <= kinetic(&e.before.q_dot) * (1.0 + 1e-12));
+        }
+    }
+}
