@@ -39,7 +39,7 @@ pub mod models;
 mod motion;
 mod observer;
 mod options;
-mod runner;
+mod run;
 mod simulation;
 mod trace;
 mod zeno;

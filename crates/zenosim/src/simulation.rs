@@ -8,7 +8,7 @@ use crate::mechanics::{guard_scale, Mechanics};
 use crate::model::HybridLagrangian;
 use crate::observer::Observer;
 use crate::options::SimulationOptions;
-use crate::runner::Runner;
+use crate::run::Runner;
 
 /// A run of the completed hybrid system of a model from one initial state.
 ///

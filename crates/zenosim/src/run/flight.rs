@@ -1,0 +1,287 @@
+//! Free flight and event location: a guard crossed on a step's dense output, the event state on
+//! the admissible side, a spurious crossing or an impact, and which constraints are closed there.
+
+use super::equations::project_onto;
+use super::{interpolate, Next, Runner};
+use crate::derivatives::guard_along;
+use crate::error::Error;
+use crate::events::{first_crossing, time_resolution};
+use crate::execution::ActiveSet;
+use crate::mechanics::{guard_scale, Normal};
+use crate::model::HybridLagrangian;
+use crate::observer::Observer;
+use crate::zeno::Prediction;
+
+impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
+    pub(super) fn after_free_step(&mut self) -> Result<Next, Error> {
+        let (t0, t1) = (self.stepper.t_previous(), self.stepper.t());
+        // The step that found the crossing (before `state_at` steps again to it).
+        let found = t1 - t0;
+        let Some((index, t_event)) = self.earliest_crossing(t0, t1, ActiveSet::empty())? else {
+            self.commit_step()?;
+            return Ok(Next::Continue);
+        };
+        self.emit_grid_before(t_event)?;
+        let hint = self.stepper.suggested_step();
+        let before = if self.cubic {
+            // The step and its interpolant are both exact on a parabola (up to rounding): the
+            // interpolant gives the step's state without stepping again.
+            let mut y = vec![0.0; 2 * self.n];
+            self.stepper.interpolate_cubic(t_event, &mut y);
+            y
+        } else {
+            self.state_at(t_event)?
+        };
+        let (t_event, before) = self.admissible_side(index, t_event, before)?;
+        self.crossing(index, t_event, before, hint, found)
+    }
+
+    /// A start on a surface (`h ≤ 0`, within the rounding that [`Simulation::new`] admits) that
+    /// moves into it, or rests on it pressed, is a contact at `t = 0`, decided as for a crossing
+    /// found at a step's start. The search on the dense output takes a step's start as
+    /// admissible and looks for dips only between positive samples: a body that moves in slowly
+    /// while pulled away hard would dip in and out again before the first step's first sample,
+    /// unseen.
+    pub(super) fn contact_at_start(&mut self) -> Result<Next, Error> {
+        let n = self.n;
+        let y = self.y.clone();
+        let (q, q_dot) = y.split_at(n);
+        // The first contact; the others at the surface join it in the impact law.
+        let mut contact = None;
+        for index in 0..self.sim.model.constraints().len() {
+            let (h, _, _) = guard_along(self.sim.model, index, q, q_dot);
+            if h > 0.0 || leaving(&self.normal(index, self.t, q, q_dot)?) {
+                continue;
+            }
+            contact = Some(index);
+            break;
+        }
+        match contact {
+            Some(index) => {
+                let hint = self.stepper.suggested_step();
+                self.crossing(index, self.t, y, hint, f64::INFINITY)
+            }
+            None => Ok(Next::Continue),
+        }
+    }
+
+    /// The guard of constraint `index` crossed at `t_event`, from the state `before` on its
+    /// admissible side: an impact, or a spurious crossing of a body that is leaving. `hint` is
+    /// the next step's size, `found` the size of the step that found the crossing.
+    pub(super) fn crossing(
+        &mut self,
+        index: usize,
+        t_event: f64,
+        before: Vec<f64>,
+        hint: f64,
+        found: f64,
+    ) -> Result<Next, Error> {
+        let (q, q_dot) = before.split_at(self.n);
+        let normal = self.normal(index, t_event, q, q_dot)?;
+        // A surface where ∂h/∂q vanishes (h = x³ at x = 0) has no normal to bounce along: below
+        // the position tolerance, h is dominated by its curvature, not by its gradient.
+        let tol = self.sim.options.tolerances;
+        let q_tol = tol.atol + tol.rtol * self.constraint_scale(index, q);
+        if normal.gradient_norm <= 0.5 * normal.curvature * q_tol {
+            let error = Error::DegenerateConstraint {
+                t: t_event,
+                constraint: self.sim.model.constraints()[index].name.clone(),
+            };
+            return Err(self.fail_at(t_event, &before, error));
+        }
+        if leaving(&normal) {
+            // Moving away at the root (or at rest and accelerating away): a round-off crossing,
+            // not an impact (REFERENCE §4).
+            self.spurious += 1;
+            if self.no_progress(t_event) {
+                return self.stuck_at(index, t_event, &before);
+            }
+            // Pulled back, it lands after the flight 2 A q̇/|ḧ|: bound the next step by it, as
+            // after an impact, so that no step carries the body into the surface and out again
+            // between the samples of its dense output. A flight below the time resolution (a
+            // body at rest on the surface and pressed into it, found again at the same time
+            // until it is stuck) bounds nothing: then the step that found this crossing does,
+            // so that the retries do not grow past the body (a ball resting on a cylinder would
+            // otherwise be carried through it by a step whose first sample is beyond it).
+            let e = self.sim.model.constraints()[index].restitution;
+            let round_off = (normal.a_q_dot_round_off, normal.h_ddot_round_off);
+            let hint = match Prediction::new(normal.a_q_dot, normal.h_ddot_free, e, round_off) {
+                Some(p) if p.next_flight > time_resolution(t_event) => {
+                    self.flight_bound = 1.5 * p.next_flight;
+                    hint.min(self.flight_bound)
+                }
+                _ => hint.min(found),
+            };
+            self.restart(t_event, &before, Some(hint))?;
+            self.enter_mode(t_event)?;
+            return Ok(Next::Continue);
+        }
+        let closed = self.closed_set(index, t_event, &before)?;
+        if closed.len() > 1 {
+            return self.impact_set(index, closed, t_event, before, hint);
+        }
+        self.impact(index, t_event, before, normal, hint)
+    }
+
+    /// The constraints in the impact law when constraint `index` is reached at `t` in the state
+    /// `y` (docs/contact-laws.md, law 2): `index`, the constraints held, and every other
+    /// constraint closed or closing there, with `h` within the position tolerance and `A q̇`
+    /// not positive beyond its rounding.
+    pub(super) fn closed_set(
+        &mut self,
+        index: usize,
+        t: f64,
+        y: &[f64],
+    ) -> Result<ActiveSet, Error> {
+        let mut set = self.held().with(index);
+        let m = self.sim.model.constraints().len();
+        let tol = self.sim.options.tolerances;
+        let (q, q_dot) = y.split_at(self.n);
+        let start = set;
+        for other in (0..m).filter(|&i| !start.contains(i)) {
+            let mut gradient = std::mem::take(&mut self.scratch);
+            let h = self.mech.constraint_gradient(other, q, &mut gradient);
+            let norm = gradient[..self.n].iter().map(|a| a * a).sum::<f64>().sqrt();
+            let scale = guard_scale(h, &gradient[..self.n], q) / norm;
+            self.scratch = gradient;
+            let q_tol = tol.atol + tol.rtol * if scale.is_finite() { scale } else { 0.0 };
+            let close = h <= q_tol * norm;
+            if !close {
+                continue;
+            }
+            let normal = self.normal(other, t, q, q_dot)?;
+            if normal.a_q_dot <= normal.a_q_dot_round_off {
+                set = set.with(other);
+            }
+        }
+        Ok(set)
+    }
+
+    /// The size of the coordinates as constraint `index` weighs them, `(|h| + Σ|A_i q_i|)/|A|`,
+    /// for scaling position tolerances: a coordinate `h` ignores or barely depends on (like the
+    /// ball's `x1`) must not loosen them.
+    pub(super) fn constraint_scale(&mut self, index: usize, q: &[f64]) -> f64 {
+        let mut gradient = std::mem::take(&mut self.scratch);
+        let h = self.mech.constraint_gradient(index, q, &mut gradient);
+        let norm = gradient[..self.n].iter().map(|a| a * a).sum::<f64>().sqrt();
+        let scale = guard_scale(h, &gradient[..self.n], q) / norm;
+        self.scratch = gradient;
+        if scale.is_finite() {
+            scale
+        } else {
+            0.0
+        }
+    }
+
+    /// The event state on the admissible side: the state at the root may be a little past the
+    /// surface (the root was found on the interpolant, and the state may come from a refining
+    /// step); Newton steps in time on the last step's dense output bring it back to `h ≥ 0`
+    /// (REFERENCE §4).
+    pub(super) fn admissible_side(
+        &mut self,
+        index: usize,
+        t: f64,
+        mut y: Vec<f64>,
+    ) -> Result<(f64, Vec<f64>), Error> {
+        let n = self.n;
+        let (h, _, _) = guard_along(self.sim.model, index, &y[..n], &y[n..]);
+        let in_last_step = self.stepper.t_previous() < t && t <= self.stepper.t();
+        if h >= 0.0 || !in_last_step {
+            return Ok((t, y));
+        }
+        self.dense()?;
+        let cubic = self.cubic;
+        let mut t_new = t;
+        for _ in 0..8 {
+            let (h, h_dot, _) = guard_along(self.sim.model, index, &y[..n], &y[n..]);
+            if h >= 0.0 || h_dot >= 0.0 || h.is_nan() {
+                break;
+            }
+            // h + ḣ δ = 0, δ = −h/ḣ < 0, with a margin so that the next try lands on h ≥ 0.
+            let back = (h / h_dot) * 1.001 + f64::EPSILON * t_new.abs();
+            t_new = (t_new - back).max(self.stepper.t_previous());
+            interpolate(&self.stepper, cubic, t_new, &mut y);
+        }
+        Ok((t_new, y))
+    }
+
+    /// The state at `t` inside the last accepted step, by Runge–Kutta steps from the step's
+    /// start rather than from the dense output: an event restarts the integration from this
+    /// state, so it must carry the step's local error, not the (lower-order) interpolant's.
+    /// Leaves the stepper at `t`.
+    pub(super) fn state_at(&mut self, t: f64) -> Result<Vec<f64>, Error> {
+        let t0 = self.stepper.t_previous();
+        if t <= t0 {
+            return Ok(self.stepper.y_previous().to_vec());
+        }
+        self.cubic = false;
+        let mut eqs = self.equations();
+        let h = t - t0;
+        self.stepper.rewind(h);
+        while self.stepper.t() < t {
+            self.check_step_limit()?;
+            let stepped = self.stepper.step(&mut eqs, t, h);
+            stepped.map_err(|e| self.step_error(e))?;
+        }
+        Ok(self.stepper.y().to_vec())
+    }
+
+    /// The earliest crossing of any guard (except those `held`) in `[t0, t1]`, on the dense
+    /// output, its samples put back onto the held constraints. Other constraints at the surface
+    /// there join the impact law ([`Runner::closed_set`]).
+    pub(super) fn earliest_crossing(
+        &mut self,
+        t0: f64,
+        t1: f64,
+        held: ActiveSet,
+    ) -> Result<Option<(usize, f64)>, Error> {
+        let m = self.sim.model.constraints().len();
+        if (0..m).all(|i| held.contains(i)) {
+            return Ok(None);
+        }
+        self.dense()?;
+        let cubic = self.cubic;
+        let mut found: Option<(usize, f64)> = None;
+        for index in (0..m).filter(|&i| !held.contains(i)) {
+            let (stepper, mech, n) = (&self.stepper, self.mech, self.n);
+            let mut y = std::mem::take(&mut self.scratch);
+            let crossing = first_crossing(t0, t1, |t| {
+                interpolate(stepper, cubic, t, &mut y);
+                // Best effort: a failed projection just leaves the sample as it is.
+                let _ = project_onto(&mech, held, n, &mut y);
+                let (h, h_dot, _) = guard_along(mech.model(), index, &y[..n], &y[n..]);
+                (h, Some(h_dot))
+            });
+            self.scratch = y;
+            if let Some(c) = crossing {
+                let t = c.t_admissible;
+                if found.is_none_or(|(_, t_other)| t < t_other) {
+                    found = Some((index, t));
+                }
+            }
+        }
+        Ok(found)
+    }
+
+    /// Constraint `other` reached at about `t` while the current mode holds others: the state
+    /// there, on the held constraints and on `other`'s admissible side, is a crossing.
+    pub(super) fn reached_while_held(&mut self, other: usize, t: f64) -> Result<Next, Error> {
+        let found = self.stepper.t() - self.stepper.t_previous();
+        self.emit_grid_before(t)?;
+        let hint = self.stepper.suggested_step();
+        let before = self.state_at(t)?;
+        let (t, mut before) = self.admissible_side(other, t, before)?;
+        // Best effort: the interpolated state is within the tolerance of the held constraints.
+        let _ = project_onto(&self.mech, self.held(), self.n, &mut before);
+        self.crossing(other, t, before, hint, found)
+    }
+}
+
+/// Whether a body at a constraint's surface is leaving it: moving away, or at rest (a normal
+/// velocity within its rounding has no sign) and accelerating away. Otherwise it is in contact
+/// (moving in, or pressed onto the surface at rest, however `A q̇` happened to round).
+pub(super) fn leaving(normal: &Normal) -> bool {
+    normal.a_q_dot > normal.a_q_dot_round_off
+        || (normal.a_q_dot.abs() <= normal.a_q_dot_round_off
+            && normal.h_ddot_free > normal.h_ddot_round_off)
+}
