@@ -123,23 +123,26 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     }
 
     pub(super) fn stall(&mut self, index: usize, t: f64, y: &[f64], p: Prediction, e: f64) -> Next {
-        let t_zeno = t + p.remaining;
-        self.zeno.push(ZenoPoint {
+        let point = ZenoPoint {
             constraint: index,
             constraints: ActiveSet::single(index),
             kind: self.zeno_kind(&p, e, t),
             t_switch: t,
-            t_zeno,
+            t_zeno: t + p.remaining,
             impacts: self.sequence.count(),
             ratio: self.sequence.ratio(),
             point: split(y, self.n),
-        });
+        };
+        self.stop_at(point, y)
+    }
+
+    /// Ends the run at the Zeno point `point`, reached in the state `y` (`Off`).
+    fn stop_at(&mut self, point: ZenoPoint, y: &[f64]) -> Next {
+        let (constraint, t, t_zeno) = (point.constraint, point.t_switch, point.t_zeno);
+        self.zeno.push(point);
         self.t = t;
         self.y.copy_from_slice(y);
-        Next::Stop(Outcome::ZenoStalled {
-            constraint: index,
-            t_zeno,
-        })
+        Next::Stop(Outcome::ZenoStalled { constraint, t_zeno })
     }
 
     /// The switch to the constrained motion through `R∞`.
@@ -429,22 +432,16 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         y: &[f64],
         p: Prediction,
     ) -> Next {
-        let t_zeno = t + p.remaining;
-        self.zeno.push(ZenoPoint {
+        let point = ZenoPoint {
             constraint: index,
             constraints: set,
             kind: ZenoKind::Genuine,
             t_switch: t,
-            t_zeno,
+            t_zeno: t + p.remaining,
             impacts: self.accumulation.count(),
             ratio: self.accumulation.ratio(),
             point: split(y, self.n),
-        });
-        self.t = t;
-        self.y.copy_from_slice(y);
-        Next::Stop(Outcome::ZenoStalled {
-            constraint: index,
-            t_zeno,
-        })
+        };
+        self.stop_at(point, y)
     }
 }

@@ -37,9 +37,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 self.normal(index, t1, &end[..n], &end[n..])?.lift_margin()
             }
         };
-        let crossing = if margin_end <= 0.0
-            && margin_start.max(margin_end) < -(margin_end - margin_start).abs()
-        {
+        let crossing = if lift_ruled_out(margin_start, margin_end) {
             None
         } else {
             self.dense()?;
@@ -132,9 +130,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let end = self.stepper.y().to_vec();
         let margin_end = self.set_margin(set, t1, &end)?;
         let margin_start = self.set_margin_start;
-        let crossing = if margin_end <= 0.0
-            && margin_start.max(margin_end) < -(margin_end - margin_start).abs()
-        {
+        let crossing = if lift_ruled_out(margin_start, margin_end) {
             None
         } else {
             self.dense()?;
@@ -204,6 +200,12 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         self.enter_mode(t)?;
         Ok(Next::Continue)
     }
+}
+
+/// Whether the lift margins at a step's ends rule out a lift-off inside it without searching:
+/// both negative by more than they differ.
+fn lift_ruled_out(start: f64, end: f64) -> bool {
+    end <= 0.0 && start.max(end) < -(end - start).abs()
 }
 
 /// The lift-off guard from a lift margin: it crosses 0 where the margin becomes positive. A
