@@ -19,6 +19,16 @@ pub(super) struct Equations<'a, L> {
     pub(super) end: Option<(f64, Normal)>,
 }
 
+impl<L: HybridLagrangian> Equations<'_, L> {
+    /// The right-hand side held on two or more constraints (docs/contact-laws.md, law 1).
+    #[inline(never)]
+    fn rhs_on_set(&self, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
+        let (q, q_dot) = y.split_at(self.n);
+        dy[..self.n].copy_from_slice(q_dot);
+        contact::held_acceleration(&self.mech, self.set, q, q_dot, &mut dy[self.n..]).map(|_| ())
+    }
+}
+
 impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
     type Error = DynamicsError;
 
@@ -26,13 +36,15 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
         2 * self.n
     }
 
+    /// Free or on one constraint, the mechanics' right-hand side, inlined into the stages;
+    /// on a set, [`Equations::rhs_on_set`], kept out of line so that it does not stop that.
+    #[inline(always)]
     fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
         if self.set.is_empty() {
-            return self.mech.state_derivative(y, self.active, dy).map(|_| ());
+            self.mech.state_derivative(y, self.active, dy).map(|_| ())
+        } else {
+            self.rhs_on_set(y, dy)
         }
-        let (q, q_dot) = y.split_at(self.n);
-        dy[..self.n].copy_from_slice(q_dot);
-        contact::held_acceleration(&self.mech, self.set, q, q_dot, &mut dy[self.n..]).map(|_| ())
     }
 
     /// On a constraint, the acceleration and the normal response from one evaluation of the
