@@ -511,6 +511,38 @@ fn impacts_are_marked_per_constraint_and_a_switch_names_its_set() {
     );
 }
 
+/// Regression: the Zeno diagnostic of an accumulation that alternates between constraints (the
+/// rocking block's corners) was an empty panel, its sequence cut at every change of constraint.
+/// It draws every flight of the accumulation, on a line of ratio 7/13 (the block's closed form).
+#[test]
+fn an_alternating_accumulation_draws_its_flights() {
+    let source = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/rocking-block.toml"),
+    )
+    .unwrap();
+    let scratch = Scratch::new(&source);
+    assert_exit(&scratch.run(&["--plot"]), 0);
+    let s = summary(&scratch.path("out"));
+    let last = s["zeno"].as_array().unwrap().last().unwrap().clone();
+    assert_eq!(last["constraints"], serde_json::json!(["left", "right"]));
+    let svg = text(&scratch.path("out/zeno.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    let marks = inside(&groups(&doc, "flights", None), "circle");
+    let impacts = last["impacts"].as_u64().unwrap() as usize;
+    assert!(impacts >= 10, "{impacts}");
+    assert_eq!(
+        marks.len(),
+        impacts - 1,
+        "a flight between each two impacts"
+    );
+    let all = texts(&doc);
+    assert!(
+        all.iter().any(|t| t.contains("on 'left'+'right'")),
+        "{all:?}"
+    );
+    assert!(all.iter().any(|t| t == "fit: ratio r = 0.5385"), "{all:?}");
+}
+
 // ----- refusals -------------------------------------------------------------------------------
 
 /// `zenosim plot <args>` refused with exit 2 and an `error: ` message, which it returns.

@@ -11,7 +11,11 @@
 //! - after a Zeno point, the motion constrained to `h = 0`:
 //!   `M q̈ = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − Aᵀ λ`, `λ = (A M⁻¹ Aᵀ)⁻¹ (A M⁻¹ f + Ȧ q̇)`
 //!   (the paper prints `A q̇` for `Ȧ q̇`; this is the corrected form), left again when the
-//!   contact force `−Aᵀλ` would have to pull (`λ > 0`).
+//!   contact force `−Aᵀλ` would have to pull (`λ > 0`);
+//! - with several constraints closed at once, the same on the set: impacts by the generalized
+//!   Newton law (an LCP over every closed constraint), resting contact by the acceleration LCP
+//!   that decides which constraints hold, and Zeno points where constraints meet
+//!   (docs/contact-laws.md in the repository states the laws, the signs and the choices).
 //!
 //! Principal types:
 //! - [`HybridLagrangian`], [`Constraint`], [`Scalar`]: what a user writes;
@@ -22,6 +26,7 @@
 //! - [`Derived`]: `M`, `A`, `λ`, the energy and `R∞` at one state;
 //! - [`integrator::Stepper`]: the Runge–Kutta pairs (DOP853, DOPRI5) with dense output;
 //! - [`events::first_crossing`]: event location on a step's dense output;
+//! - [`lcp`]: the small dense LCP solver (Lemke's method) of the contact laws;
 //! - [`models`]: the paper's examples, written in Rust.
 
 mod compiled;

@@ -1,6 +1,7 @@
 //! The impact sequences of a run and their flight times, for the Zeno diagnostic: one sequence
-//! per Zeno point; a run without one has a sequence per run of three impacts or more on one
-//! constraint (ended by a lift-off, an impact on another constraint or the run's end).
+//! per Zeno point (over all of its constraints, where it has several); a run without one has a
+//! sequence per run of three impacts or more on one constraint (ended by a lift-off, an impact
+//! on another constraint or the run's end).
 
 use super::record::{Record, ZenoRecord};
 
@@ -22,6 +23,9 @@ pub fn sequences(record: &Record) -> Vec<Sequence<'_>> {
     let mut plain = Vec::new();
     let mut zeno = record.zeno.iter().enumerate();
     let mut current: Option<(&str, Vec<f64>)> = None;
+    // Every impact since the last Zeno point or lift-off, for a Zeno point over several
+    // constraints (a groove's walls in turn).
+    let mut since: Vec<(&str, f64)> = Vec::new();
     for e in &record.events {
         let constraint = e.constraint.as_str();
         match e.kind.as_str() {
@@ -33,20 +37,30 @@ pub fn sequences(record: &Record) -> Vec<Sequence<'_>> {
                     .get_or_insert_with(|| (constraint, Vec::new()))
                     .1
                     .push(e.t);
+                since.push((constraint, e.t));
             }
-            "zeno" => reached.push(Sequence {
-                constraint,
-                times: current.take().map(|(_, times)| times).unwrap_or_default(),
-                zeno: zeno.next(),
-            }),
-            _ => close(&mut current, &mut plain),
+            "zeno" => {
+                let z = zeno.next();
+                let times = accumulated(z, &mut current, &since);
+                since.clear();
+                reached.push(Sequence {
+                    constraint,
+                    times,
+                    zeno: z,
+                });
+            }
+            _ => {
+                close(&mut current, &mut plain);
+                since.clear();
+            }
         }
     }
     // A stall has no event: the last Zeno point is where the run stopped.
     if let Some(z) = zeno.next() {
+        let times = accumulated(Some(z), &mut current, &since);
         reached.push(Sequence {
             constraint: &z.1.constraint,
-            times: current.take().map(|(_, times)| times).unwrap_or_default(),
+            times,
             zeno: Some(z),
         });
     }
@@ -56,6 +70,26 @@ pub fn sequences(record: &Record) -> Vec<Sequence<'_>> {
     } else {
         reached
     }
+}
+
+/// The impact times of the sequence that reached the Zeno point `z`: the run on its constraint
+/// (taken from `current`), or, for a Zeno point over several constraints, the last impacts in
+/// `since` that reached any of them.
+fn accumulated(
+    z: Option<(usize, &ZenoRecord)>,
+    current: &mut Option<(&str, Vec<f64>)>,
+    since: &[(&str, f64)],
+) -> Vec<f64> {
+    let run = current.take().map(|(_, times)| times).unwrap_or_default();
+    let Some((_, z)) = z.filter(|(_, z)| z.constraints.len() > 1) else {
+        return run;
+    };
+    let inside = |c: &str| z.constraints.iter().any(|name| name == c);
+    let first = since
+        .iter()
+        .rposition(|(c, _)| !inside(c))
+        .map_or(0, |k| k + 1);
+    since[first..].iter().map(|&(_, t)| t).collect()
 }
 
 /// Ends the sequence `current`, kept in `plain` if it has three impacts or more.

@@ -85,13 +85,20 @@ impl ZenoChart<'_> {
     fn caption(&self, s: &Sequence<'_>) -> String {
         let model = &self.record.model;
         match s.zeno {
-            Some((k, z)) => format!(
-                "{model}: Zeno point {} on '{}', {}, {} impacts",
-                k + 1,
-                s.constraint,
-                z.kind,
-                z.impacts
-            ),
+            Some((k, z)) => {
+                // A Zeno point over several constraints names them all.
+                let on = if z.constraints.len() > 1 {
+                    z.constraints.join("'+'")
+                } else {
+                    s.constraint.to_string()
+                };
+                format!(
+                    "{model}: Zeno point {} on '{on}', {}, {} impacts",
+                    k + 1,
+                    z.kind,
+                    z.impacts
+                )
+            }
             None => format!(
                 "{model}: {} impacts on '{}' (no Zeno point reached)",
                 s.times.len(),

@@ -49,7 +49,9 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 .impact(index, e, q, q_dot)
                 .map_err(|err| self.fail_dynamics(err, t, &before))?;
         }
+        // Pushing, so not below 0 (at rest, `A q̇` may round to either side of it).
         let impulse = -(1.0 + e) * normal.a_q_dot / normal.s;
+        let impulse = if impulse > 0.0 { impulse } else { 0.0 };
         let contacts = ActiveSet::single(index);
         let change = (contacts, vec![impulse]);
         self.record_event(
