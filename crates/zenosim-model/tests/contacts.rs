@@ -244,3 +244,26 @@ fn the_double_pendulum_rests_on_the_stop_and_the_ground() {
         .iter()
         .any(|e| e.kind == EventKind::Impact && e.contacts.len() == 2));
 }
+
+/// The table on four legs: more contacts than coordinates (docs/contact-laws.md, degenerate
+/// sets). Dropped tilted, it comes to rest flat (z = p = r = 0, the only rest state) held by all
+/// four legs, whose forces, not unique, carry its weight together: `Σ λᵢ = −m g` (each leg's
+/// `∂h/∂z` is 1; λ < 0 pushes).
+#[test]
+fn the_table_rests_flat_on_four_legs() {
+    let file = load("table.toml");
+    let (run, trajectory) = run(&file);
+    let s = &run.final_state;
+    assert!(s.q.iter().chain(&s.q_dot).all(|x| x.abs() < 1e-9), "{s:?}");
+    let all = (0..4).fold(ActiveSet::empty(), ActiveSet::with);
+    assert_eq!(run.final_mode, Mode::Constrained(all));
+    let last = trajectory.points.last().unwrap();
+    let weight = parameter(&file, "m") * parameter(&file, "g");
+    let carried: f64 = last.lambda.iter().sum();
+    assert!(
+        (carried + weight).abs() < 1e-9 * weight,
+        "{:?}",
+        last.lambda
+    );
+    assert!(last.lambda.iter().all(|&l| l <= 0.0), "{:?}", last.lambda);
+}

@@ -389,7 +389,23 @@ fn double_pendulum_stop(file: &ModelFile, u: &[f64; 8]) -> State {
     )
 }
 
-const SPECS: [Spec; 11] = [
+/// The table: tilted up to 0.2 in pitch and roll, its lowest leg up to 0.3 above the floor,
+/// moving at up to 1 m/s and 2 rad/s.
+fn table(file: &ModelFile, u: &[f64; 8]) -> State {
+    let (a, b) = (parameter(file, "a"), parameter(file, "b"));
+    let (p, r) = (lerp(u[0], -0.2, 0.2), lerp(u[1], -0.2, 0.2));
+    let z = a * p.sin().abs() + b * r.sin().abs() + 0.3 * u[2];
+    (
+        vec![z, p, r],
+        vec![
+            lerp(u[3], -1.0, 1.0),
+            lerp(u[4], -2.0, 2.0),
+            lerp(u[5], -2.0, 2.0),
+        ],
+    )
+}
+
+const SPECS: [Spec; 12] = [
     Spec {
         file: "ball-off-cylinder.toml",
         base: ball_off_cylinder,
@@ -458,6 +474,12 @@ const SPECS: [Spec; 11] = [
             "sin θ* (the closest approach to the pole)",
             |file, state| closest_approach_to_the_pole(file, state).sin(),
         )),
+    },
+    Spec {
+        file: "table.toml",
+        base: table,
+        seed: 12,
+        closest: None,
     },
 ];
 
@@ -1025,6 +1047,11 @@ fn spherical_pendulum_random_states() {
 /// the top when `φ̇ = 0`) with ever smaller `φ̇`: it passes the coordinate singularity
 /// `sin θ = 0` at `sin θ* ≈ 1.85 φ̇`, down to `φ̇ = 10⁻¹⁸`, and through it at `φ̇ = 0`; every
 /// run finishes and passes the checks.
+#[test]
+fn table_random_states() {
+    check_model("table.toml");
+}
+
 #[test]
 fn the_spherical_pendulum_passes_its_pole_at_any_distance() {
     let file = load("spherical-pendulum.toml");

@@ -108,35 +108,71 @@ impl Contacts {
         }
     }
 
-    /// `W`'s Cholesky factor, or the set's constraints when `W` is singular (dependent
-    /// gradients).
-    pub fn factor(&self) -> Result<Cholesky, DynamicsError> {
-        Cholesky::new(&self.delassus, self.len()).ok_or(DynamicsError::DependentConstraints {
+    /// `W`'s Cholesky factor, `None` where `W` is singular (dependent gradients).
+    pub fn factor(&self) -> Option<Cholesky> {
+        Cholesky::new(&self.delassus, self.len())
+    }
+
+    /// `W`'s Cholesky factor, or where `W` is singular that of `W + δ I` with `δ` a billionth
+    /// of its largest diagonal entry: the projection's least-squares steps onto a set whose
+    /// gradients are dependent.
+    fn factor_or_regularized(&self) -> Result<Cholesky, DynamicsError> {
+        if let Some(factor) = self.factor() {
+            return Ok(factor);
+        }
+        let k = self.len();
+        let largest = (0..k).map(|i| self.delassus[i * k + i]).fold(0.0, f64::max);
+        let mut regularized = self.delassus.clone();
+        for i in 0..k {
+            regularized[i * k + i] += 1e-9 * largest;
+        }
+        Cholesky::factor(&regularized, k, 0.0).ok_or(DynamicsError::ContactProblem {
             constraints: self.set,
         })
     }
 
-    /// The multipliers `λ` (engine's sign: positive pulls) that hold the motion on every
-    /// constraint of the set (`ḧᵢ = 0`): `W λ = ḧ_free`.
-    pub fn held_multipliers(&self, factor: &Cholesky) -> Vec<f64> {
+    /// The forces that hold the motion on every constraint of the set, and how far each
+    /// constraint is from letting go (positive: it lets go).
+    ///
+    /// With independent gradients the multipliers solve `W λ = ḧ_free` (engine's sign: positive
+    /// pulls), and a constraint lets go where its `λ` would have to pull beyond its rounding
+    /// error, bounded through `|W⁻¹|` from the rounding of each `ḧ_free`. With dependent
+    /// gradients (`W` singular: the legs of a table on a floor, the same surface twice) the
+    /// forces are not unique, but the motion is: the forces are those of law 1's LCP
+    /// (`0 ≤ f ⊥ W f + ḧ_free ≥ 0`, solved by Lemke's method; every solution gives the same
+    /// `M⁻¹Aᵀf` for a positive semi-definite `W`), `λ = −f`, and a constraint lets go where
+    /// its `ḧ = W f + ḧ_free` rises above its rounding.
+    pub fn hold(&self) -> Result<Hold, DynamicsError> {
+        let k = self.len();
         let b: Vec<f64> = self.normals.iter().map(|n| n.h_ddot_free).collect();
-        factor.solve(&b)
+        if let Some(factor) = self.factor() {
+            let lambda = factor.solve(&b);
+            let inverse = factor.inverse();
+            let margins = (0..k)
+                .map(|i| {
+                    let round: f64 = (0..k)
+                        .map(|j| inverse[i * k + j].abs() * self.normals[j].h_ddot_round_off)
+                        .sum();
+                    lambda[i] - round - ROUND_OFF * lambda[i].abs()
+                })
+                .collect();
+            return Ok(Hold { lambda, margins });
+        }
+        let solution = lcp::solve(&self.delassus, &b).map_err(|e| self.lcp_error(e))?;
+        let margins = (0..k)
+            .map(|i| solution.w[i] - self.acceleration_round_off(i, &solution.z))
+            .collect();
+        let lambda = solution.z.iter().map(|f| -f).collect();
+        Ok(Hold { lambda, margins })
     }
 
-    /// How far each constraint of the set is from letting go, in units of `λ`: positive when its
-    /// multiplier would have to pull beyond its rounding error. The rounding of `λ` is bounded
-    /// through `|W⁻¹|` from the rounding of each `ḧ_free`.
-    pub fn lift_margins(&self, factor: &Cholesky, lambda: &[f64]) -> Vec<f64> {
+    /// The rounding error of `ḧᵢ = (W f)ᵢ + ḧ_free,i`.
+    fn acceleration_round_off(&self, i: usize, f: &[f64]) -> f64 {
         let k = self.len();
-        let inverse = factor.inverse();
-        (0..k)
-            .map(|i| {
-                let round: f64 = (0..k)
-                    .map(|j| inverse[i * k + j].abs() * self.normals[j].h_ddot_round_off)
-                    .sum();
-                lambda[i] - round - ROUND_OFF * lambda[i].abs()
-            })
-            .collect()
+        let terms: f64 = (0..k)
+            .map(|j| (self.delassus[i * k + j] * f[j]).abs())
+            .sum();
+        self.normals[i].h_ddot_round_off + ROUND_OFF * terms
     }
 
     /// The held set of law 1 (resting contact): the contact forces `f ≥ 0` solve
@@ -145,14 +181,9 @@ impl Contacts {
     pub fn held_set(&self) -> Result<ActiveSet, DynamicsError> {
         let b: Vec<f64> = self.normals.iter().map(|n| n.h_ddot_free).collect();
         let solution = lcp::solve(&self.delassus, &b).map_err(|e| self.lcp_error(e))?;
-        let k = self.len();
         let mut held = ActiveSet::empty();
-        for i in 0..k {
-            let terms: f64 = (0..k)
-                .map(|j| (self.delassus[i * k + j] * solution.z[j]).abs())
-                .sum();
-            let round = self.normals[i].h_ddot_round_off + ROUND_OFF * terms;
-            if solution.w[i] <= round {
+        for i in 0..self.len() {
+            if solution.w[i] <= self.acceleration_round_off(i, &solution.z) {
                 held = held.with(self.indices[i]);
             }
         }
@@ -215,13 +246,19 @@ impl Cholesky {
     /// The factor of `a` (`k × k`, row-major), `None` unless every pivot is positive and above
     /// [`DEPENDENT_PIVOT`] times its diagonal entry.
     pub fn new(a: &[f64], k: usize) -> Option<Self> {
+        Self::factor(a, k, DEPENDENT_PIVOT)
+    }
+
+    /// The factor of `a`, `None` unless every pivot is positive and above `floor` times its
+    /// diagonal entry.
+    fn factor(a: &[f64], k: usize, floor: f64) -> Option<Self> {
         let mut l = vec![0.0; k * k];
         for j in 0..k {
             let mut d = a[j * k + j];
             for p in 0..j {
                 d -= l[j * k + p] * l[j * k + p];
             }
-            let clear = d > DEPENDENT_PIVOT * a[j * k + j] && d.is_finite();
+            let clear = d > 0.0 && d > floor * a[j * k + j] && d.is_finite();
             if !clear {
                 return None;
             }
@@ -275,22 +312,40 @@ impl Cholesky {
     }
 }
 
-/// The motion held on a set of two or more constraints: `q̈ = M⁻¹f − Σ M⁻¹Aᵢᵀ λᵢ` with
-/// `W λ = ḧ_free`, into `q_ddot`; returns the contacts and `λ`.
+/// What holds the motion on a set: [`Contacts::hold`].
+pub(crate) struct Hold {
+    /// The multipliers, in the set's order (engine's sign: the contact force is `−Aᵀλ`).
+    pub lambda: Vec<f64>,
+    /// How far each constraint is from letting go: positive where it does.
+    pub margins: Vec<f64>,
+}
+
+impl Hold {
+    /// The largest margin: positive where some constraint of the set lets go.
+    pub fn margin(&self) -> f64 {
+        self.margins
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+}
+
+/// The motion held on a set of two or more constraints: `q̈ = M⁻¹f − Σ M⁻¹Aᵢᵀ λᵢ` with the
+/// multipliers of [`Contacts::hold`], into `q_ddot`; returns the contacts and the hold.
 pub(crate) fn held_acceleration<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
     set: ActiveSet,
     q: &[f64],
     q_dot: &[f64],
     q_ddot: &mut [f64],
-) -> Result<(Contacts, Vec<f64>), DynamicsError> {
+) -> Result<(Contacts, Hold), DynamicsError> {
     mech.acceleration(q, q_dot, None, q_ddot)?;
     let contacts = Contacts::at(mech, set, q, q_dot).map_err(|(e, _)| e)?;
-    let lambda = contacts.held_multipliers(&contacts.factor()?);
-    let minus: Vec<f64> = lambda.iter().map(|l| -l).collect();
+    let hold = contacts.hold()?;
+    let minus: Vec<f64> = hold.lambda.iter().map(|l| -l).collect();
     contacts.add_directions(&minus, q_ddot);
-    if q_ddot.iter().chain(&lambda).all(|x| x.is_finite()) {
-        Ok((contacts, lambda))
+    if q_ddot.iter().chain(&hold.lambda).all(|x| x.is_finite()) {
+        Ok((contacts, hold))
     } else {
         Err(DynamicsError::NonFinite)
     }
@@ -299,6 +354,8 @@ pub(crate) fn held_acceleration<L: HybridLagrangian>(
 /// `R∞` onto a set: `q` onto `hᵢ = 0` for every constraint of the set by Newton steps along
 /// `M⁻¹Aᵀ` (`W δ = h`, `q ← q − M⁻¹Aᵀ δ`), then `q̇` by the plastic projection onto `A q̇ = 0`
 /// (`W μ = A q̇`, `q̇ ← q̇ − M⁻¹Aᵀ μ`), which keeps every momentum the constraints do not touch.
+/// Where the gradients are dependent, `W + δ I` takes `W`'s place (least-squares steps), and the
+/// velocity is projected twice.
 pub(crate) fn project<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
     set: ActiveSet,
@@ -313,7 +370,7 @@ pub(crate) fn project<L: HybridLagrangian>(
         if !c.h.iter().all(|h| h.is_finite()) {
             return Err(DynamicsError::NonFinite);
         }
-        let factor = c.factor()?;
+        let factor = c.factor_or_regularized()?;
         // Each h against the size of its terms: the largest relative residual decides.
         let size =
             c.h.iter()
@@ -324,6 +381,12 @@ pub(crate) fn project<L: HybridLagrangian>(
             let a_q_dot: Vec<f64> = c.normals.iter().map(|n| n.a_q_dot).collect();
             let mu: Vec<f64> = factor.solve(&a_q_dot).iter().map(|m| -m).collect();
             c.add_directions(&mu, q_dot);
+            if c.factor().is_none() {
+                // What W + δI left of A q̇ (a billionth of it), taken out once more.
+                let rest: Vec<f64> = (0..c.len()).map(|i| dot(c.row(i), q_dot)).collect();
+                let mu: Vec<f64> = factor.solve(&rest).iter().map(|m| -m).collect();
+                c.add_directions(&mu, q_dot);
+            }
             if size > 1e-12 {
                 return Err(c.projection_error());
             }

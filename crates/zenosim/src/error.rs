@@ -110,18 +110,9 @@ pub enum Error {
         /// The step size reached.
         h: f64,
     },
-    /// The gradients of constraints that have to act together are dependent (the Delassus
-    /// matrix `A M⁻¹ Aᵀ` of the set is singular): the contact forces are not determined.
-    #[error("at t = {}: constraints {} act together but their gradients ∂h/∂q are dependent (the same surface written twice, or more closed constraints than coordinates), so their contact forces are not determined: remove the redundant constraint or change the geometry", Readable(*t), quoted(constraints))]
-    DependentConstraints {
-        /// When.
-        t: f64,
-        /// The constraints of the set.
-        constraints: Vec<String>,
-    },
     /// The contact problem (the impact law or the contact forces on a set) has no solution that
-    /// Lemke's method finds.
-    #[error("at t = {}: the contact problem on constraints {} has no solution (Lemke's method ended on a ray): their gradients are dependent in a way no force balances; remove the redundant constraint or change the geometry", Readable(*t), quoted(constraints))]
+    /// Lemke's method finds: no impulses or forces keep the motion admissible.
+    #[error("at t = {}: the contact problem on constraints {} has no solution (Lemke's method ended on a ray): no contact forces keep the motion on the admissible side of all of them at once (their surfaces leave it no way to move from this state); change the geometry or the initial state", Readable(*t), quoted(constraints))]
     ContactProblem {
         /// When.
         t: f64,

@@ -27,9 +27,6 @@ pub(crate) enum DynamicsError {
     /// The right-hand side is not finite.
     #[error("a non-finite value")]
     NonFinite,
-    /// The Delassus matrix of a set of constraints is singular: dependent gradients.
-    #[error("the constraints {constraints:?} have dependent gradients")]
-    DependentConstraints { constraints: ActiveSet },
     /// The contact problem on a set has no solution that Lemke's method finds.
     #[error("the contact problem on {constraints:?} has no solution")]
     ContactProblem { constraints: ActiveSet },

@@ -47,10 +47,6 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 constraint: name(constraint),
                 residual,
             },
-            DynamicsError::DependentConstraints { constraints } => Error::DependentConstraints {
-                t,
-                constraints: constraints.iter().map(name).collect(),
-            },
             DynamicsError::ContactProblem { constraints } => Error::ContactProblem {
                 t,
                 constraints: constraints.iter().map(name).collect(),

@@ -110,12 +110,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let (q, q_dot) = y.split_at(self.n);
         let mut acc = vec![0.0; self.n];
         let held = contact::held_acceleration(&self.mech, set, q, q_dot, &mut acc);
-        let (contacts, lambda) = held.map_err(|err| self.fail_dynamics(err, t, y))?;
-        let factor = contacts
-            .factor()
-            .map_err(|err| self.fail_dynamics(err, t, y))?;
-        let margins = contacts.lift_margins(&factor, &lambda);
-        Ok(margins.into_iter().fold(f64::NEG_INFINITY, f64::max))
+        let (_, hold) = held.map_err(|err| self.fail_dynamics(err, t, y))?;
+        Ok(hold.margin())
     }
 
     /// After a step held on two or more constraints: another constraint reached (an impact on
@@ -141,12 +137,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 interpolate(stepper, cubic, t, &mut y);
                 let (q, q_dot) = y.split_at(n);
                 let margin = contact::held_acceleration(&mech, set, q, q_dot, &mut acc)
-                    .and_then(|(contacts, lambda)| {
-                        let factor = contacts.factor()?;
-                        let margins = contacts.lift_margins(&factor, &lambda);
-                        Ok(margins.into_iter().fold(f64::NEG_INFINITY, f64::max))
-                    })
-                    .unwrap_or(f64::NAN);
+                    .map_or(f64::NAN, |(_, hold)| hold.margin());
                 (lift_guard(margin), None)
             })
         };
@@ -178,7 +169,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             let (q, q_dot) = state.split_at(self.n);
             let mut acc = vec![0.0; self.n];
             let solved = contact::held_acceleration(&self.mech, set, q, q_dot, &mut acc)
-                .and_then(|(c, lambda)| Ok((c.lift_margins(&c.factor()?, &lambda), c.indices)));
+                .map(|(c, hold)| (hold.margins, c.indices));
             let (margins, indices) = solved.map_err(|err| self.fail_dynamics(err, t, &state))?;
             let worst = (0..margins.len())
                 .max_by(|&i, &j| margins[i].total_cmp(&margins[j]))

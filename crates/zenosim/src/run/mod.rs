@@ -91,7 +91,7 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     /// [`Normal::lift_margin`] of the active constraint at the start of the current step.
     lift_margin_start: f64,
     /// On two or more constraints, the largest of their lift margins
-    /// ([`Contacts::lift_margins`]) at the start of the current step.
+    /// ([`crate::contact::Contacts::hold`]) at the start of the current step.
     set_margin_start: f64,
     /// The next time on a uniform output grid.
     next_output: f64,

@@ -152,8 +152,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             } else {
                 let mut acc = vec![0.0; self.n];
                 let held = contact::held_acceleration(&self.mech, active, q, q_dot, &mut acc);
-                let (contacts, lambda) = held.map_err(|err| self.dynamics_error(err, t, y))?;
-                for (&index, l) in contacts.indices.iter().zip(lambda) {
+                let (contacts, hold) = held.map_err(|err| self.dynamics_error(err, t, y))?;
+                for (&index, l) in contacts.indices.iter().zip(hold.lambda) {
                     self.lambda_buf[index] = l;
                 }
             }

@@ -152,7 +152,6 @@ fn error_time(e: &Error) -> f64 {
         | Error::DegenerateConstraint { t, .. }
         | Error::NonFinite { t }
         | Error::StepSizeUnderflow { t, .. }
-        | Error::DependentConstraints { t, .. }
         | Error::ContactProblem { t, .. }
         | Error::Projection { t, .. }
         | Error::Limit { t, .. } => *t,
