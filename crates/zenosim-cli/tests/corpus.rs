@@ -8,7 +8,8 @@
 //! - Hostile files made here: 10 MB, and 100 000 nested parentheses.
 //! - `corpus/faults/NAME.toml`: a valid model whose run fails partway (NaN, a mass matrix that
 //!   loses definiteness, a vanishing constraint gradient at an impact or in contact, a step size
-//!   that underflows, an event storm, a contact problem without a solution). The run ends with exit 1 and status `failed`, says when
+//!   that underflows, an event storm, a contact problem without a solution, contacts whose
+//!   gradients are nearly but not exactly dependent). The run ends with exit 1 and status `failed`, says when
 //!   and why, and leaves a complete, readable trajectory and summary of everything up to then.
 
 mod common;
@@ -166,7 +167,7 @@ fn a_hundred_thousand_nested_parentheses_are_refused_fast() {
 }
 
 /// What a fault's run must say: the model, and the cause in its message.
-const FAULTS: [(&str, &str); 7] = [
+const FAULTS: [(&str, &str); 8] = [
     ("blow-up", "the step size"),
     (
         "event-storm",
@@ -181,6 +182,10 @@ const FAULTS: [(&str, &str); 7] = [
         "constraint 'floor' has ∂h/∂q = 0 where it must act",
     ),
     ("nan-force", "the state or its derivative is not finite"),
+    (
+        "nearly-dependent",
+        "constraints 'floor' and 'ramp' have to hold together but their gradients ∂h/∂q are nearly dependent",
+    ),
     (
         "pinched",
         "the contact problem on constraints 'floor' and 'cap' has no solution",

@@ -17,8 +17,23 @@ use crate::motion::dot;
 const ROUND_OFF: f64 = 64.0 * f64::EPSILON;
 
 /// A Delassus matrix `W` whose Cholesky pivot falls below this fraction of its diagonal entry is
-/// singular: the constraints' gradients are dependent (to about eight digits).
-const DEPENDENT_PIVOT: f64 = 1e-8;
+/// not positive definite enough to solve with: the constraints' gradients are dependent to
+/// about twelve digits, and forces solved from it would carry relative errors of 1e-4 or more.
+const DEPENDENT_PIVOT: f64 = 1e-12;
+
+/// Below this fraction of its diagonal entry, a pivot of `W` is rounding: the gradients are
+/// dependent exactly, as far as `f64` tells (a table's four legs, the same surface twice).
+/// Between this and [`DEPENDENT_PIVOT`] they are nearly dependent, and the forces on the set
+/// are too ill-determined to trust either way.
+const ROUNDING_PIVOT: f64 = 16.0 * f64::EPSILON;
+
+/// How far `W` is from singular.
+enum Rank {
+    /// Positive definite: solve with its factor.
+    Full(Cholesky),
+    /// Singular to rounding: the forces from the LCP, the projection by least squares.
+    Deficient,
+}
 
 /// The constraints of a set at one state `(q, q̇)`: their rows `Aᵢ`, directions `M⁻¹Aᵢᵀ`, normal
 /// responses, and the Delassus matrix `W = A M⁻¹ Aᵀ`.
@@ -108,23 +123,40 @@ impl Contacts {
         }
     }
 
-    /// `W`'s Cholesky factor, `None` where `W` is singular (dependent gradients).
+    /// `W`'s Cholesky factor, `None` where `W` is singular or nearly (dependent gradients).
     pub fn factor(&self) -> Option<Cholesky> {
         Cholesky::new(&self.delassus, self.len())
     }
 
-    /// `W`'s Cholesky factor, or where `W` is singular that of `W + δ I` with `δ` a billionth
-    /// of its largest diagonal entry: the projection's least-squares steps onto a set whose
-    /// gradients are dependent.
-    fn factor_or_regularized(&self) -> Result<Cholesky, DynamicsError> {
+    /// Whether `W` is positive definite (with its factor), or singular to rounding; an error
+    /// where it is nearly singular, with a pivot between [`ROUNDING_PIVOT`] and
+    /// [`DEPENDENT_PIVOT`] of its diagonal entry.
+    fn rank(&self) -> Result<Rank, DynamicsError> {
         if let Some(factor) = self.factor() {
+            return Ok(Rank::Full(factor));
+        }
+        let smallest = Cholesky::smallest_pivot(&self.delassus, self.len());
+        if smallest <= ROUNDING_PIVOT {
+            Ok(Rank::Deficient)
+        } else {
+            Err(DynamicsError::NearlyDependent {
+                constraints: self.set,
+            })
+        }
+    }
+
+    /// `W`'s Cholesky factor, or where `W` is singular to rounding that of `W + δ I` with `δ`
+    /// [`ROUNDING_PIVOT`] times its largest diagonal entry: least-squares steps that treat
+    /// its rounding-level directions as null and take every other one whole.
+    fn factor_or_regularized(&self) -> Result<Cholesky, DynamicsError> {
+        if let Rank::Full(factor) = self.rank()? {
             return Ok(factor);
         }
         let k = self.len();
         let largest = (0..k).map(|i| self.delassus[i * k + i]).fold(0.0, f64::max);
         let mut regularized = self.delassus.clone();
         for i in 0..k {
-            regularized[i * k + i] += 1e-9 * largest;
+            regularized[i * k + i] += ROUNDING_PIVOT * largest;
         }
         Cholesky::factor(&regularized, k, 0.0).ok_or(DynamicsError::ContactProblem {
             constraints: self.set,
@@ -145,7 +177,7 @@ impl Contacts {
     pub fn hold(&self) -> Result<Hold, DynamicsError> {
         let k = self.len();
         let b: Vec<f64> = self.normals.iter().map(|n| n.h_ddot_free).collect();
-        if let Some(factor) = self.factor() {
+        if let Rank::Full(factor) = self.rank()? {
             let lambda = factor.solve(&b);
             let inverse = factor.inverse();
             let margins = (0..k)
@@ -159,8 +191,12 @@ impl Contacts {
             return Ok(Hold { lambda, margins });
         }
         let solution = lcp::solve(&self.delassus, &b).map_err(|e| self.lcp_error(e))?;
+        // In units of λ, as above: ḧ over W's diagonal entry.
         let margins = (0..k)
-            .map(|i| solution.w[i] - self.acceleration_round_off(i, &solution.z))
+            .map(|i| {
+                let h_ddot = solution.w[i] - self.acceleration_round_off(i, &solution.z);
+                h_ddot / self.delassus[i * k + i]
+            })
             .collect();
         let lambda = solution.z.iter().map(|f| -f).collect();
         Ok(Hold { lambda, margins })
@@ -247,6 +283,36 @@ impl Cholesky {
     /// [`DEPENDENT_PIVOT`] times its diagonal entry.
     pub fn new(a: &[f64], k: usize) -> Option<Self> {
         Self::factor(a, k, DEPENDENT_PIVOT)
+    }
+
+    /// The smallest ratio of a pivot to its diagonal entry of `a`'s Cholesky factorisation, up
+    /// to the first that falls below [`DEPENDENT_PIVOT`] (after it the factorisation means
+    /// nothing); non-positive where `a` is not positive definite.
+    fn smallest_pivot(a: &[f64], k: usize) -> f64 {
+        let mut l = vec![0.0; k * k];
+        let mut smallest = f64::INFINITY;
+        for j in 0..k {
+            let mut d = a[j * k + j];
+            for p in 0..j {
+                d -= l[j * k + p] * l[j * k + p];
+            }
+            let ratio = d / a[j * k + j];
+            smallest = smallest.min(ratio);
+            let clear = ratio > DEPENDENT_PIVOT;
+            if !clear {
+                return if ratio.is_nan() { 0.0 } else { smallest };
+            }
+            let l_jj = d.sqrt();
+            l[j * k + j] = l_jj;
+            for i in j + 1..k {
+                let mut s = a[i * k + j];
+                for p in 0..j {
+                    s -= l[i * k + p] * l[j * k + p];
+                }
+                l[i * k + j] = s / l_jj;
+            }
+        }
+        smallest
     }
 
     /// The factor of `a`, `None` unless every pivot is positive and above `floor` times its
@@ -387,7 +453,10 @@ pub(crate) fn project<L: HybridLagrangian>(
                 let mu: Vec<f64> = factor.solve(&rest).iter().map(|m| -m).collect();
                 c.add_directions(&mu, q_dot);
             }
-            if size > 1e-12 {
+            // A deficient set may be inconsistent by rounding of its geometry (a table's legs
+            // coplanar to 1e-11): its least-squares residual is accepted up to 1e-9.
+            let accepted = if c.factor().is_some() { 1e-12 } else { 1e-9 };
+            if size > accepted {
                 return Err(c.projection_error());
             }
             return Ok(());

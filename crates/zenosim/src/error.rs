@@ -110,6 +110,15 @@ pub enum Error {
         /// The step size reached.
         h: f64,
     },
+    /// The gradients of constraints that have to hold together are nearly, but not exactly,
+    /// dependent: their contact forces are too ill-determined to compute.
+    #[error("at t = {}: constraints {} have to hold together but their gradients ∂h/∂q are nearly dependent (agreeing to about twelve digits or more, but not to rounding), so their contact forces cannot be determined reliably: make them exactly dependent (the same surface, or legs exactly in one plane) or clearly independent", Readable(*t), quoted(constraints))]
+    NearlyDependent {
+        /// When.
+        t: f64,
+        /// The constraints of the set.
+        constraints: Vec<String>,
+    },
     /// The contact problem (the impact law or the contact forces on a set) has no solution that
     /// Lemke's method finds: no impulses or forces keep the motion admissible.
     #[error("at t = {}: the contact problem on constraints {} has no solution (Lemke's method ended on a ray): no contact forces keep the motion on the admissible side of all of them at once (their surfaces leave it no way to move from this state); change the geometry or the initial state", Readable(*t), quoted(constraints))]

@@ -27,6 +27,9 @@ pub(crate) enum DynamicsError {
     /// The right-hand side is not finite.
     #[error("a non-finite value")]
     NonFinite,
+    /// The gradients of a set are nearly but not exactly dependent.
+    #[error("the constraints {constraints:?} have nearly dependent gradients")]
+    NearlyDependent { constraints: ActiveSet },
     /// The contact problem on a set has no solution that Lemke's method finds.
     #[error("the contact problem on {constraints:?} has no solution")]
     ContactProblem { constraints: ActiveSet },

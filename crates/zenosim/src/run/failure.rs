@@ -47,6 +47,10 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 constraint: name(constraint),
                 residual,
             },
+            DynamicsError::NearlyDependent { constraints } => Error::NearlyDependent {
+                t,
+                constraints: constraints.iter().map(name).collect(),
+            },
             DynamicsError::ContactProblem { constraints } => Error::ContactProblem {
                 t,
                 constraints: constraints.iter().map(name).collect(),
