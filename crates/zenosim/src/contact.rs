@@ -285,39 +285,26 @@ impl Cholesky {
         Self::factor(a, k, DEPENDENT_PIVOT)
     }
 
-    /// The smallest ratio of a pivot to its diagonal entry of `a`'s Cholesky factorisation, up
-    /// to the first that falls below [`DEPENDENT_PIVOT`] (after it the factorisation means
-    /// nothing); non-positive where `a` is not positive definite.
+    /// The ratio to its diagonal entry of the first pivot of `a`'s Cholesky factorisation that
+    /// falls below [`DEPENDENT_PIVOT`] (after it the factorisation means nothing): 0 where it is
+    /// not a number, infinite where there is none.
     fn smallest_pivot(a: &[f64], k: usize) -> f64 {
-        let mut l = vec![0.0; k * k];
-        let mut smallest = f64::INFINITY;
-        for j in 0..k {
-            let mut d = a[j * k + j];
-            for p in 0..j {
-                d -= l[j * k + p] * l[j * k + p];
-            }
-            let ratio = d / a[j * k + j];
-            smallest = smallest.min(ratio);
-            let clear = ratio > DEPENDENT_PIVOT;
-            if !clear {
-                return if ratio.is_nan() { 0.0 } else { smallest };
-            }
-            let l_jj = d.sqrt();
-            l[j * k + j] = l_jj;
-            for i in j + 1..k {
-                let mut s = a[i * k + j];
-                for p in 0..j {
-                    s -= l[i * k + p] * l[j * k + p];
-                }
-                l[i * k + j] = s / l_jj;
-            }
+        match Self::factor_or_ratio(a, k, DEPENDENT_PIVOT) {
+            Ok(_) => f64::INFINITY,
+            Err(ratio) if ratio.is_nan() => 0.0,
+            Err(ratio) => ratio,
         }
-        smallest
     }
 
     /// The factor of `a`, `None` unless every pivot is positive and above `floor` times its
     /// diagonal entry.
     fn factor(a: &[f64], k: usize, floor: f64) -> Option<Self> {
+        Self::factor_or_ratio(a, k, floor).ok()
+    }
+
+    /// The factor of `a`, or the ratio to its diagonal entry of the first pivot that is not
+    /// positive, finite and above `floor` times that entry.
+    fn factor_or_ratio(a: &[f64], k: usize, floor: f64) -> Result<Self, f64> {
         let mut l = vec![0.0; k * k];
         for j in 0..k {
             let mut d = a[j * k + j];
@@ -326,7 +313,7 @@ impl Cholesky {
             }
             let clear = d > 0.0 && d > floor * a[j * k + j] && d.is_finite();
             if !clear {
-                return None;
+                return Err(d / a[j * k + j]);
             }
             let l_jj = d.sqrt();
             l[j * k + j] = l_jj;
@@ -338,7 +325,7 @@ impl Cholesky {
                 l[i * k + j] = s / l_jj;
             }
         }
-        Some(Self { k, l })
+        Ok(Self { k, l })
     }
 
     /// `a⁻¹ b`.
