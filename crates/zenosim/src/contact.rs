@@ -123,34 +123,28 @@ impl Contacts {
         }
     }
 
-    /// `W`'s Cholesky factor, `None` where `W` is singular or nearly (dependent gradients).
-    pub fn factor(&self) -> Option<Cholesky> {
-        Cholesky::new(&self.delassus, self.len())
-    }
-
     /// Whether `W` is positive definite (with its factor), or singular to rounding; an error
     /// where it is nearly singular, with a pivot between [`ROUNDING_PIVOT`] and
     /// [`DEPENDENT_PIVOT`] of its diagonal entry.
     fn rank(&self) -> Result<Rank, DynamicsError> {
-        if let Some(factor) = self.factor() {
-            return Ok(Rank::Full(factor));
-        }
-        let smallest = Cholesky::smallest_pivot(&self.delassus, self.len());
-        if smallest <= ROUNDING_PIVOT {
-            Ok(Rank::Deficient)
-        } else {
-            Err(DynamicsError::NearlyDependent {
+        // The first pivot below DEPENDENT_PIVOT decides: after it the factorisation means
+        // nothing. One that is not a number is rounding too.
+        match Cholesky::factor_or_ratio(&self.delassus, self.len(), DEPENDENT_PIVOT) {
+            Ok(factor) => Ok(Rank::Full(factor)),
+            Err(ratio) if ratio.is_nan() || ratio <= ROUNDING_PIVOT => Ok(Rank::Deficient),
+            Err(_) => Err(DynamicsError::NearlyDependent {
                 constraints: self.set,
-            })
+            }),
         }
     }
 
     /// `W`'s Cholesky factor, or where `W` is singular to rounding that of `W + δ I` with `δ`
     /// [`ROUNDING_PIVOT`] times its largest diagonal entry: least-squares steps that treat
-    /// its rounding-level directions as null and take every other one whole.
-    fn factor_or_regularized(&self) -> Result<Cholesky, DynamicsError> {
+    /// its rounding-level directions as null and take every other one whole. The flag says
+    /// which: `true` for the regularized one.
+    fn factor_or_regularized(&self) -> Result<(Cholesky, bool), DynamicsError> {
         if let Rank::Full(factor) = self.rank()? {
-            return Ok(factor);
+            return Ok((factor, false));
         }
         let k = self.len();
         let largest = (0..k).map(|i| self.delassus[i * k + i]).fold(0.0, f64::max);
@@ -158,9 +152,12 @@ impl Contacts {
         for i in 0..k {
             regularized[i * k + i] += ROUNDING_PIVOT * largest;
         }
-        Cholesky::factor(&regularized, k, 0.0).ok_or(DynamicsError::ContactProblem {
+        // Not positive definite even so: no least-squares step exists.
+        let singular = |_| DynamicsError::ContactProblem {
             constraints: self.set,
-        })
+        };
+        let factor = Cholesky::factor_or_ratio(&regularized, k, 0.0).map_err(singular)?;
+        Ok((factor, true))
     }
 
     /// The forces that hold the motion on every constraint of the set, and how far each
@@ -279,31 +276,8 @@ pub(crate) struct Cholesky {
 }
 
 impl Cholesky {
-    /// The factor of `a` (`k × k`, row-major), `None` unless every pivot is positive and above
-    /// [`DEPENDENT_PIVOT`] times its diagonal entry.
-    pub fn new(a: &[f64], k: usize) -> Option<Self> {
-        Self::factor(a, k, DEPENDENT_PIVOT)
-    }
-
-    /// The ratio to its diagonal entry of the first pivot of `a`'s Cholesky factorisation that
-    /// falls below [`DEPENDENT_PIVOT`] (after it the factorisation means nothing): 0 where it is
-    /// not a number, infinite where there is none.
-    fn smallest_pivot(a: &[f64], k: usize) -> f64 {
-        match Self::factor_or_ratio(a, k, DEPENDENT_PIVOT) {
-            Ok(_) => f64::INFINITY,
-            Err(ratio) if ratio.is_nan() => 0.0,
-            Err(ratio) => ratio,
-        }
-    }
-
-    /// The factor of `a`, `None` unless every pivot is positive and above `floor` times its
-    /// diagonal entry.
-    fn factor(a: &[f64], k: usize, floor: f64) -> Option<Self> {
-        Self::factor_or_ratio(a, k, floor).ok()
-    }
-
-    /// The factor of `a`, or the ratio to its diagonal entry of the first pivot that is not
-    /// positive, finite and above `floor` times that entry.
+    /// The factor of `a` (`k × k`, row-major), or the ratio to its diagonal entry of the first
+    /// pivot that is not positive, finite and above `floor` times that entry.
     fn factor_or_ratio(a: &[f64], k: usize, floor: f64) -> Result<Self, f64> {
         let mut l = vec![0.0; k * k];
         for j in 0..k {
@@ -423,7 +397,7 @@ pub(crate) fn project<L: HybridLagrangian>(
         if !c.h.iter().all(|h| h.is_finite()) {
             return Err(DynamicsError::NonFinite);
         }
-        let factor = c.factor_or_regularized()?;
+        let (factor, deficient) = c.factor_or_regularized()?;
         // Each h against the size of its terms: the largest relative residual decides.
         let size =
             c.h.iter()
@@ -434,15 +408,15 @@ pub(crate) fn project<L: HybridLagrangian>(
             let a_q_dot: Vec<f64> = c.normals.iter().map(|n| n.a_q_dot).collect();
             let mu: Vec<f64> = factor.solve(&a_q_dot).iter().map(|m| -m).collect();
             c.add_directions(&mu, q_dot);
-            if c.factor().is_none() {
-                // What W + δI left of A q̇ (a billionth of it), taken out once more.
+            if deficient {
+                // What W + δI left of A q̇ (about 16 ε of it), taken out once more.
                 let rest: Vec<f64> = (0..c.len()).map(|i| dot(c.row(i), q_dot)).collect();
                 let mu: Vec<f64> = factor.solve(&rest).iter().map(|m| -m).collect();
                 c.add_directions(&mu, q_dot);
             }
             // A deficient set may be inconsistent by rounding of its geometry (a table's legs
             // coplanar to 1e-11): its least-squares residual is accepted up to 1e-9.
-            let accepted = if c.factor().is_some() { 1e-12 } else { 1e-9 };
+            let accepted = if deficient { 1e-9 } else { 1e-12 };
             if size > accepted {
                 return Err(c.projection_error());
             }

@@ -41,11 +41,6 @@ impl ActiveSet {
         Self(self.0 & !other.0)
     }
 
-    /// Whether every constraint of `self` is in `other`.
-    pub const fn is_subset(self, other: Self) -> bool {
-        self.0 & !other.0 == 0
-    }
-
     /// Whether no constraint is active.
     pub const fn is_empty(self) -> bool {
         self.0 == 0

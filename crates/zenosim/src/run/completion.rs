@@ -4,7 +4,7 @@
 
 use super::equations::project_onto;
 use super::record::split;
-use super::{Next, Runner, AUTO_ROUND_OFF_ULPS, OFF_ROUND_OFF_ULPS, STUCK_EVENTS};
+use super::{holding, Next, Runner, AUTO_ROUND_OFF_ULPS, OFF_ROUND_OFF_ULPS, STUCK_EVENTS};
 use crate::contact::{self};
 use crate::derivatives::guard_along;
 use crate::error::Error;
@@ -349,16 +349,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     ) -> bool {
         let (q, q_dot) = y.split_at(self.n);
         set.iter().all(|index| {
-            let mut gradient = std::mem::take(&mut self.scratch);
-            let h = self.mech.constraint_gradient(index, q, &mut gradient);
-            let h_scale = guard_scale(h, &gradient[..self.n], q);
-            let a_q_dot: f64 = gradient[..self.n]
-                .iter()
-                .zip(q_dot)
-                .map(|(a, v)| a * v)
-                .sum();
-            self.scratch = gradient;
-            a_q_dot.abs() * flight <= ulps * f64::EPSILON * h_scale
+            let surface = self.surface(index, q, q_dot);
+            surface.a_q_dot.abs() * flight <= ulps * f64::EPSILON * surface.h_scale
         })
     }
 
@@ -366,14 +358,10 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     /// at `y`.
     pub(super) fn near(&mut self, set: ActiveSet, y: &[f64]) -> bool {
         let tol = self.sim.options.tolerances;
-        let q = &y[..self.n];
+        let (q, q_dot) = y.split_at(self.n);
         set.iter().all(|index| {
-            let mut gradient = std::mem::take(&mut self.scratch);
-            let h = self.mech.constraint_gradient(index, q, &mut gradient);
-            let norm = gradient[..self.n].iter().map(|a| a * a).sum::<f64>().sqrt();
-            self.scratch = gradient;
-            let scale = self.constraint_scale(index, q);
-            h.abs() <= 100.0 * (tol.atol + tol.rtol * scale) * norm
+            let surface = self.surface(index, q, q_dot);
+            surface.h.abs() <= surface.tolerance(100.0, tol)
         })
     }
 
@@ -411,11 +399,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         });
         self.sequence.clear();
         self.accumulation.clear();
-        let mode = if held.is_empty() {
-            Mode::Free
-        } else {
-            Mode::Constrained(held)
-        };
+        let mode = holding(held);
         let change = (set, Vec::new());
         self.record_event(EventKind::Zeno, index, change, t, &before, &after, mode)?;
         self.restart(t, &after, None)?;

@@ -7,6 +7,7 @@ use crate::derivatives::guard_along;
 use crate::error::Error;
 use crate::events::{first_crossing, time_resolution};
 use crate::execution::ActiveSet;
+use crate::integrator::Tolerances;
 use crate::mechanics::{guard_scale, Normal};
 use crate::model::HybridLagrangian;
 use crate::observer::Observer;
@@ -81,7 +82,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         // A surface where ∂h/∂q vanishes (h = x³ at x = 0) has no normal to bounce along: below
         // the position tolerance, h is dominated by its curvature, not by its gradient.
         let tol = self.sim.options.tolerances;
-        let q_tol = tol.atol + tol.rtol * self.constraint_scale(index, q);
+        let q_tol = tol.atol + tol.rtol * self.surface(index, q, q_dot).q_scale();
         if normal.gradient_norm <= 0.5 * normal.curvature * q_tol {
             let error = Error::DegenerateConstraint {
                 t: t_event,
@@ -139,13 +140,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let (q, q_dot) = y.split_at(self.n);
         let start = set;
         for other in (0..m).filter(|&i| !start.contains(i)) {
-            let mut gradient = std::mem::take(&mut self.scratch);
-            let h = self.mech.constraint_gradient(other, q, &mut gradient);
-            let norm = gradient[..self.n].iter().map(|a| a * a).sum::<f64>().sqrt();
-            let scale = guard_scale(h, &gradient[..self.n], q) / norm;
-            self.scratch = gradient;
-            let q_tol = tol.atol + tol.rtol * if scale.is_finite() { scale } else { 0.0 };
-            let close = h <= q_tol * norm;
+            let surface = self.surface(other, q, q_dot);
+            let close = surface.h <= surface.tolerance(1.0, tol);
             if !close {
                 continue;
             }
@@ -157,20 +153,19 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         Ok(set)
     }
 
-    /// The size of the coordinates as constraint `index` weighs them, `(|h| + Σ|A_i q_i|)/|A|`,
-    /// for scaling position tolerances: a coordinate `h` ignores or barely depends on (like the
-    /// ball's `x1`) must not loosen them.
-    pub(super) fn constraint_scale(&mut self, index: usize, q: &[f64]) -> f64 {
+    /// Constraint `index` at `(q, q̇)`: `h`, `|A|`, the size of `h`'s terms and `A q̇`.
+    pub(super) fn surface(&mut self, index: usize, q: &[f64], q_dot: &[f64]) -> Surface {
         let mut gradient = std::mem::take(&mut self.scratch);
         let h = self.mech.constraint_gradient(index, q, &mut gradient);
-        let norm = gradient[..self.n].iter().map(|a| a * a).sum::<f64>().sqrt();
-        let scale = guard_scale(h, &gradient[..self.n], q) / norm;
+        let a = &gradient[..self.n];
+        let surface = Surface {
+            h,
+            norm: a.iter().map(|a| a * a).sum::<f64>().sqrt(),
+            h_scale: guard_scale(h, a, q),
+            a_q_dot: a.iter().zip(q_dot).map(|(a, v)| a * v).sum(),
+        };
         self.scratch = gradient;
-        if scale.is_finite() {
-            scale
-        } else {
-            0.0
-        }
+        surface
     }
 
     /// The event state on the admissible side: the state at the root may be a little past the
@@ -284,4 +279,35 @@ pub(super) fn leaving(normal: &Normal) -> bool {
     normal.a_q_dot > normal.a_q_dot_round_off
         || (normal.a_q_dot.abs() <= normal.a_q_dot_round_off
             && normal.h_ddot_free > normal.h_ddot_round_off)
+}
+
+/// A constraint at one state: [`Runner::surface`].
+pub(super) struct Surface {
+    /// `h(q)`.
+    pub h: f64,
+    /// `|A|`.
+    pub norm: f64,
+    /// `|h| + Σ|A_i q_i|`: rounding the coordinates changes `h` by about `ε` times this.
+    pub h_scale: f64,
+    /// `A q̇`.
+    pub a_q_dot: f64,
+}
+
+impl Surface {
+    /// The size of the coordinates as the constraint weighs them, `(|h| + Σ|A_i q_i|)/|A|`,
+    /// for scaling position tolerances: a coordinate `h` ignores or barely depends on (like the
+    /// ball's `x1`) must not loosen them. 0 where it is not finite.
+    pub fn q_scale(&self) -> f64 {
+        let scale = self.h_scale / self.norm;
+        if scale.is_finite() {
+            scale
+        } else {
+            0.0
+        }
+    }
+
+    /// `factor` position tolerances, in `h`'s units: `factor (atol + rtol q_scale) |A|`.
+    pub fn tolerance(&self, factor: f64, tol: Tolerances) -> f64 {
+        factor * (tol.atol + tol.rtol * self.q_scale()) * self.norm
+    }
 }

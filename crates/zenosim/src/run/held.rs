@@ -2,7 +2,7 @@
 //! held force vanishes (docs/contact-laws.md, law 1).
 
 use super::equations::project_onto;
-use super::{interpolate, Next, Runner};
+use super::{holding, interpolate, Next, Runner};
 use crate::contact::{self};
 use crate::error::Error;
 use crate::events::first_crossing;
@@ -178,11 +178,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         }
         let gone = set.minus(held);
         let index = gone.iter().next().unwrap_or(0);
-        let mode = if held.is_empty() {
-            Mode::Free
-        } else {
-            Mode::Constrained(held)
-        };
+        let mode = holding(held);
         let change = (gone, Vec::new());
         self.record_event(EventKind::Liftoff, index, change, t, &state, &state, mode)?;
         self.sequence.clear();

@@ -64,6 +64,15 @@ fn interpolate(stepper: &Stepper, cubic: bool, t: f64, out: &mut [f64]) {
     }
 }
 
+/// The mode that holds `set`: free where it is empty ([`Runner::held`] the other way).
+fn holding(set: ActiveSet) -> Mode {
+    if set.is_empty() {
+        Mode::Free
+    } else {
+        Mode::Constrained(set)
+    }
+}
+
 /// One run in progress.
 pub(crate) struct Runner<'s, 'a, L, O> {
     sim: &'s Simulation<'a, L>,
