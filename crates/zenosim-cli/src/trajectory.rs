@@ -196,6 +196,7 @@ mod tests {
             h: &[1.0, 0.0],
             lambda: &[0.0, -9.81],
             energy: f64::NAN,
+            work: zenosim::Work::default(),
         });
         assert_eq!(writer.rows(), 1);
         let text = String::from_utf8(writer.finish().unwrap()).unwrap();

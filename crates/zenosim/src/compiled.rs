@@ -52,8 +52,8 @@ enum Step {
 
 /// A straight-line program of `f64` operations.
 ///
-/// Registers: the inputs `q` then `q̇` (`2n`), the constants, then one per step (two per
-/// [`Step::SinCos`]).
+/// Registers: the inputs `q`, `q̇` and `t` (`2n + 1`), the constants, then one per step (two
+/// per [`Step::SinCos`]).
 #[derive(Clone, Debug)]
 struct Program {
     inputs: usize,
@@ -511,8 +511,13 @@ impl Program {
     }
 
     /// Runs the program and reads its outputs as an `O`.
-    fn run_outputs<O: crate::motion::Outputs<f64>>(&self, q: &[f64], q_dot: &[f64]) -> Option<O> {
-        self.run(q, q_dot, O::read)
+    fn run_outputs<O: crate::motion::Outputs<f64>>(
+        &self,
+        t: f64,
+        q: &[f64],
+        q_dot: &[f64],
+    ) -> Option<O> {
+        self.run(t, q, q_dot, O::read)
     }
 
     /// Runs the program on `(q, q̇)` and hands its outputs, in order, to `read`; `None` when a
@@ -522,23 +527,30 @@ impl Program {
     /// Only this wrapper is generic: the interpreter ([`Program::execute`]) is compiled once,
     /// not once per kind of output and dimension.
     #[inline]
-    fn run<R>(&self, q: &[f64], q_dot: &[f64], read: impl FnOnce(&[f64]) -> R) -> Option<R> {
+    fn run<R>(
+        &self,
+        t: f64,
+        q: &[f64],
+        q_dot: &[f64],
+        read: impl FnOnce(&[f64]) -> R,
+    ) -> Option<R> {
         if let Some(outputs) = &self.constant_outputs {
             return self
-                .constant_witnesses_hold(q, q_dot)
+                .constant_witnesses_hold(t, q, q_dot)
                 .then(|| read(outputs));
         }
         // `read` only converts numbers (it runs no program), so the registers are free here.
-        REGISTERS.with(|cell| self.execute(&mut cell.borrow_mut(), q, q_dot).map(read))
+        REGISTERS.with(|cell| self.execute(&mut cell.borrow_mut(), t, q, q_dot).map(read))
     }
 
     /// The witnesses of a program without steps: inputs only (its constants' were checked
     /// when it was built).
-    fn constant_witnesses_hold(&self, q: &[f64], q_dot: &[f64]) -> bool {
+    fn constant_witnesses_hold(&self, t: f64, q: &[f64], q_dot: &[f64]) -> bool {
         let n = q.len();
         let input = |w: u32| match w as usize {
             w if w < n => q[w],
-            w => q_dot[w - n],
+            w if w < 2 * n => q_dot[w - n],
+            _ => t,
         };
         self.finite.iter().all(|&w| input(w).is_finite())
             && self.nonzero.iter().all(|&w| input(w) != 0.0)
@@ -548,12 +560,13 @@ impl Program {
     fn execute<'r>(
         &self,
         registers: &'r mut Registers,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
     ) -> Option<&'r [f64]> {
         assert!(
-            q.len() == q_dot.len() && q.len() + q_dot.len() == self.inputs,
-            "a program of {} inputs run on {} + {} numbers",
+            q.len() == q_dot.len() && q.len() + q_dot.len() + 1 == self.inputs,
+            "a program of {} inputs run on {} + {} numbers and t",
             self.inputs,
             q.len(),
             q_dot.len()
@@ -565,7 +578,7 @@ impl Program {
         let outputs = tail..tail + self.outputs.len();
         if self.registers <= SMALL {
             let regs = &mut registers.small;
-            self.execute_in(regs, fill, q, q_dot)
+            self.execute_in(regs, fill, t, q, q_dot)
                 .then(|| &regs[outputs])
         } else {
             let regs = &mut registers.large;
@@ -573,7 +586,7 @@ impl Program {
                 regs.resize(self.registers, 0.0);
             }
             let regs = &mut regs[..self.registers];
-            self.execute_in(regs, fill, q, q_dot)
+            self.execute_in(regs, fill, t, q, q_dot)
                 .then(|| &regs[outputs])
         }
     }
@@ -585,6 +598,7 @@ impl Program {
         &self,
         regs: &mut B,
         fill: bool,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
     ) -> bool {
@@ -593,6 +607,7 @@ impl Program {
             regs.set(k, x);
             regs.set(n + k, v);
         }
+        regs.set(2 * n, t);
         if fill {
             regs.fill(self.inputs, &self.constants);
         }
@@ -700,63 +715,75 @@ impl Compiled {
     /// [`Compiled::trace`] for a model of dimension `N` (the tests trace one `N` only).
     pub(crate) fn trace_n<const N: usize, L: HybridLagrangian>(model: &L) -> Compiled {
         let count = model.constraints().len();
-        let terms = Program::trace(2 * N, &|x| {
-            let t: LagrangianTerms<N, Sym> =
-                lagrangian_terms_of::<Sym, N, L>(model, &x[..N], &x[N..]);
+        // The inputs: q, q̇, then t.
+        let inputs = 2 * N + 1;
+        let split = |x: &[Sym]| (x[2 * N], x[..N].to_vec(), x[N..2 * N].to_vec());
+        let terms = Program::trace(inputs, &|x| {
+            let (t, q, q_dot) = split(x);
+            let terms: LagrangianTerms<N, Sym> =
+                lagrangian_terms_of::<Sym, N, L>(model, t, &q, &q_dot);
             let mut out = Vec::with_capacity(N * (N + 1) / 2 + N);
             for i in 0..N {
                 for j in i..N {
-                    out.push(t.mass[(i, j)]);
+                    out.push(terms.mass[(i, j)]);
                 }
             }
-            out.extend(t.force.iter().copied());
+            out.extend(terms.force.iter().copied());
             out
         });
         let constraints = (0..count)
             .map(|index| {
-                Program::trace(2 * N, &|x| {
-                    let c = constraint_parts_of::<Sym, N, L>(model, index, &x[..N], &x[N..]);
+                Program::trace(inputs, &|x| {
+                    let (t, q, q_dot) = split(x);
+                    let c = constraint_parts_of::<Sym, N, L>(model, index, t, &q, &q_dot);
                     let mut out = vec![c.h];
                     out.extend(c.gradient.iter().copied());
                     out.push(c.a_q_dot);
                     out.extend(c.hessian_q_dot.iter().copied());
+                    out.push(c.h_t);
+                    out.push(c.time_drift);
                     out
                 })
             })
             .collect();
         let guards = (0..count)
             .map(|index| {
-                Program::trace(2 * N, &|x| {
-                    let (h, h_dot, h_ddot) =
-                        guard_along_of::<Sym, L>(model, index, &x[..N], &x[N..]);
+                Program::trace(inputs, &|x| {
+                    let (t, q, q_dot) = split(x);
+                    let (h, h_dot, h_ddot) = guard_along_of::<Sym, L>(model, index, t, &q, &q_dot);
                     vec![h, h_dot, h_ddot]
                 })
             })
             .collect();
-        let energy = Program::trace(2 * N, &|x| {
-            vec![energy_of::<Sym, L>(model, &x[..N], &x[N..])]
+        let energy = Program::trace(inputs, &|x| {
+            let (t, q, q_dot) = split(x);
+            vec![energy_of::<Sym, L>(model, t, &q, &q_dot)]
         });
-        let free = Program::trace_outputs(2 * N, |x| {
-            free_motion_of::<Sym, N, L>(model, &x[..N], &x[N..])
+        let free = Program::trace_outputs(inputs, |x| {
+            let (t, q, q_dot) = split(x);
+            free_motion_of::<Sym, N, L>(model, t, &q, &q_dot)
         });
         let held = (0..count)
             .map(|index| {
-                Program::trace_outputs(2 * N, |x| {
-                    constrained_motion_of::<Sym, N, L>(model, index, &x[..N], &x[N..])
+                Program::trace_outputs(inputs, |x| {
+                    let (t, q, q_dot) = split(x);
+                    constrained_motion_of::<Sym, N, L>(model, index, t, &q, &q_dot)
                 })
             })
             .collect();
         let held_acc = (0..count)
             .map(|index| {
-                Program::trace_outputs(2 * N, |x| {
-                    held_acceleration_of::<Sym, N, L>(model, index, &x[..N], &x[N..])
+                Program::trace_outputs(inputs, |x| {
+                    let (t, q, q_dot) = split(x);
+                    held_acceleration_of::<Sym, N, L>(model, index, t, &q, &q_dot)
                 })
             })
             .collect();
         let directions = (0..count)
             .map(|index| {
-                Program::trace_outputs(2 * N, |x| {
-                    direction_of::<Sym, N, L>(model, index, &x[..N], &x[N..])
+                Program::trace_outputs(inputs, |x| {
+                    let (t, q, q_dot) = split(x);
+                    direction_of::<Sym, N, L>(model, index, t, &q, &q_dot)
                 })
             })
             .collect();
@@ -849,32 +876,36 @@ impl Compiled {
     /// The free motion at `(q, q̇)`, if traced for dimension `N`.
     pub(crate) fn free_motion<const N: usize>(
         &self,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
     ) -> Option<FreeMotion<N>> {
-        self.program::<N>(Some(&self.free))?.run_outputs(q, q_dot)
+        self.program::<N>(Some(&self.free))?
+            .run_outputs(t, q, q_dot)
     }
 
     /// The motion held on constraint `index` at `(q, q̇)`, if traced for dimension `N`.
     pub(crate) fn constrained_motion<const N: usize>(
         &self,
         index: usize,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
     ) -> Option<ConstrainedMotion<N>> {
         self.program::<N>(self.held.get(index))?
-            .run_outputs(q, q_dot)
+            .run_outputs(t, q, q_dot)
     }
 
     /// The acceleration held on constraint `index` at `(q, q̇)`, if traced for dimension `N`.
     pub(crate) fn held_acceleration<const N: usize>(
         &self,
         index: usize,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
     ) -> Option<HeldAcceleration<N>> {
         self.program::<N>(self.held_acc.get(index))?
-            .run_outputs(q, q_dot)
+            .run_outputs(t, q, q_dot)
     }
 
     /// The acceleration held on constraint `index` at `(q, q̇)`, read in place by `read`, if
@@ -883,33 +914,36 @@ impl Compiled {
     pub(crate) fn held_view<const N: usize, R>(
         &self,
         index: usize,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
         read: impl FnOnce(HeldView<'_, N>) -> R,
     ) -> Option<R> {
         self.program::<N>(self.held_acc.get(index))?
-            .run(q, q_dot, |flat| read(HeldView::new(flat)))
+            .run(t, q, q_dot, |flat| read(HeldView::new(flat)))
     }
 
     /// Constraint `index`'s direction at `(q, q̇)`, if traced for dimension `N`.
     pub(crate) fn direction<const N: usize>(
         &self,
         index: usize,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
     ) -> Option<Direction<N>> {
         self.program::<N>(self.directions.get(index))?
-            .run_outputs(q, q_dot)
+            .run_outputs(t, q, q_dot)
     }
 
     /// `M` and the force at `(q, q̇)`, if traced for dimension `N`.
     pub(crate) fn lagrangian_terms<const N: usize>(
         &self,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
     ) -> Option<LagrangianTerms<N>> {
         let program = self.terms.as_ref().filter(|_| self.dimension == N)?;
-        program.run(q, q_dot, |out| {
+        program.run(t, q, q_dot, |out| {
             let mut mass = SMatrix::<f64, N, N>::zeros();
             let mut k = 0;
             for i in 0..N {
@@ -928,6 +962,7 @@ impl Compiled {
     pub(crate) fn constraint_parts<const N: usize>(
         &self,
         index: usize,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
     ) -> Option<ConstraintParts<N, f64>> {
@@ -936,11 +971,13 @@ impl Compiled {
             .get(index)?
             .as_ref()
             .filter(|_| self.dimension == N)?;
-        program.run(q, q_dot, |out| ConstraintParts {
+        program.run(t, q, q_dot, |out| ConstraintParts {
             h: out[0],
             gradient: SVector::<f64, N>::from_column_slice(&out[1..N + 1]),
             a_q_dot: out[N + 1],
             hessian_q_dot: SVector::<f64, N>::from_column_slice(&out[N + 2..2 * N + 2]),
+            h_t: out[2 * N + 2],
+            time_drift: out[2 * N + 3],
         })
     }
 
@@ -948,6 +985,7 @@ impl Compiled {
     pub(crate) fn guard_along(
         &self,
         index: usize,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
     ) -> Option<(f64, f64, f64)> {
@@ -956,13 +994,13 @@ impl Compiled {
             .get(index)?
             .as_ref()
             .filter(|_| q.len() == self.dimension)?;
-        program.run(q, q_dot, |out| (out[0], out[1], out[2]))
+        program.run(t, q, q_dot, |out| (out[0], out[1], out[2]))
     }
 
     /// The energy at `(q, q̇)`, if traced.
-    pub(crate) fn energy(&self, q: &[f64], q_dot: &[f64]) -> Option<f64> {
+    pub(crate) fn energy(&self, t: f64, q: &[f64], q_dot: &[f64]) -> Option<f64> {
         let program = self.energy.as_ref().filter(|_| q.len() == self.dimension)?;
-        program.run(q, q_dot, |out| out[0])
+        program.run(t, q, q_dot, |out| out[0])
     }
 }
 
@@ -1006,9 +1044,9 @@ mod tests {
 
     #[test]
     fn folded_negations_give_the_same_bits() {
-        // Inputs (x, y) as q, (z, unused) as q̇.
-        let (tape, outputs) = trace::trace(4, &|v| negations(v[0], v[1], v[2])).expect("traced");
-        let with = |negations| Program::from_tape(&tape, 4, &outputs, negations);
+        // Inputs (x, y) as q, (z, unused) as q̇, and t unused.
+        let (tape, outputs) = trace::trace(5, &|v| negations(v[0], v[1], v[2])).expect("traced");
+        let with = |negations| Program::from_tape(&tape, 5, &outputs, negations);
         let ways = [Negations::Each, Negations::Folded, Negations::UnlessWanted];
         let specials = [
             0.0,
@@ -1026,7 +1064,7 @@ mod tests {
                     for &z in &specials {
                         let expected = negations(x, y, z);
                         let outputs = program
-                            .run(&[x, y], &[z, 0.0], <[f64]>::to_vec)
+                            .run(0.0, &[x, y], &[z, 0.0], <[f64]>::to_vec)
                             .expect("no witnesses to fail");
                         for (k, (a, b)) in outputs.iter().zip(&expected).enumerate() {
                             assert!(

@@ -62,6 +62,7 @@ impl Contacts {
     pub fn at<L: HybridLagrangian>(
         mech: &Mechanics<'_, L>,
         set: ActiveSet,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
     ) -> Result<Self, (DynamicsError, usize)> {
@@ -81,11 +82,11 @@ impl Contacts {
         };
         for (row, &index) in contacts.indices.iter().enumerate() {
             let normal = mech
-                .normal(index, q, q_dot, &mut contacts.w[row * n..(row + 1) * n])
+                .normal(index, t, q, q_dot, &mut contacts.w[row * n..(row + 1) * n])
                 .map_err(|e| (e, index))?;
             contacts.normals.push(normal);
             let a = &mut contacts.gradient[row * n..(row + 1) * n];
-            contacts.h[row] = mech.constraint_gradient(index, q, a);
+            contacts.h[row] = mech.constraint_gradient(index, t, q, a);
             contacts.h_scale[row] = guard_scale(contacts.h[row], a, q);
         }
         for i in 0..k {
@@ -362,12 +363,13 @@ impl Hold {
 pub(crate) fn held_acceleration<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
     set: ActiveSet,
+    t: f64,
     q: &[f64],
     q_dot: &[f64],
     q_ddot: &mut [f64],
 ) -> Result<(Contacts, Hold), DynamicsError> {
-    mech.acceleration(q, q_dot, None, q_ddot)?;
-    let contacts = Contacts::at(mech, set, q, q_dot).map_err(|(e, _)| e)?;
+    mech.acceleration(t, q, q_dot, None, q_ddot)?;
+    let contacts = Contacts::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
     let hold = contacts.hold()?;
     let minus: Vec<f64> = hold.lambda.iter().map(|l| -l).collect();
     contacts.add_directions(&minus, q_ddot);
@@ -379,13 +381,14 @@ pub(crate) fn held_acceleration<L: HybridLagrangian>(
 }
 
 /// `R∞` onto a set: `q` onto `hᵢ = 0` for every constraint of the set by Newton steps along
-/// `M⁻¹Aᵀ` (`W δ = h`, `q ← q − M⁻¹Aᵀ δ`), then `q̇` by the plastic projection onto `A q̇ = 0`
-/// (`W μ = A q̇`, `q̇ ← q̇ − M⁻¹Aᵀ μ`), which keeps every momentum the constraints do not touch.
+/// `M⁻¹Aᵀ` (`W δ = h`, `q ← q − M⁻¹Aᵀ δ`), then `q̇` by the plastic projection onto `ḣ = 0`
+/// (`W μ = ḣ`, `q̇ ← q̇ − M⁻¹Aᵀ μ`), which keeps every momentum the constraints do not touch.
 /// Where the gradients are dependent, `W + δ I` takes `W`'s place (least-squares steps), and the
 /// velocity is projected twice.
 pub(crate) fn project<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
     set: ActiveSet,
+    t: f64,
     q: &mut [f64],
     q_dot: &mut [f64],
 ) -> Result<(), DynamicsError> {
@@ -393,7 +396,7 @@ pub(crate) fn project<L: HybridLagrangian>(
     let name_first = |e: (DynamicsError, usize)| e.0;
     let mut best = f64::INFINITY;
     for _ in 0..MAX_NEWTON {
-        let c = Contacts::at(mech, set, q, q_dot).map_err(name_first)?;
+        let c = Contacts::at(mech, set, t, q, q_dot).map_err(name_first)?;
         if !c.h.iter().all(|h| h.is_finite()) {
             return Err(DynamicsError::NonFinite);
         }
@@ -410,7 +413,9 @@ pub(crate) fn project<L: HybridLagrangian>(
             c.add_directions(&mu, q_dot);
             if deficient {
                 // What W + δI left of A q̇ (about 16 ε of it), taken out once more.
-                let rest: Vec<f64> = (0..c.len()).map(|i| dot(c.row(i), q_dot)).collect();
+                let rest: Vec<f64> = (0..c.len())
+                    .map(|i| dot(c.row(i), q_dot) + c.normals[i].h_t)
+                    .collect();
                 let mu: Vec<f64> = factor.solve(&rest).iter().map(|m| -m).collect();
                 c.add_directions(&mu, q_dot);
             }
@@ -426,6 +431,6 @@ pub(crate) fn project<L: HybridLagrangian>(
         let delta: Vec<f64> = factor.solve(&c.h).iter().map(|d| -d).collect();
         c.add_directions(&delta, q);
     }
-    let c = Contacts::at(mech, set, q, q_dot).map_err(name_first)?;
+    let c = Contacts::at(mech, set, t, q, q_dot).map_err(name_first)?;
     Err(c.projection_error())
 }

@@ -105,7 +105,8 @@ pub(crate) use dimension_match;
 pub(crate) struct LagrangianTerms<const N: usize, T = f64> {
     /// `M = ∂²L/∂q̇²`.
     pub mass: SMatrix<T, N, N>,
-    /// `∂L/∂q − (∂²L/∂q̇∂q) q̇`, i.e. `−(C q̇ + N)` for `L = ½ q̇ᵀMq̇ − V`.
+    /// `∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t + Q`, i.e. `−(C q̇ + N) + Q` for `L = ½ q̇ᵀMq̇ − V`,
+    /// with `Q` the generalized force and `−∂D/∂q̇` of the dissipation function.
     pub force: SVector<T, N>,
 }
 
@@ -118,15 +119,22 @@ pub(crate) struct ConstraintTerms<const N: usize> {
 }
 
 /// The derivatives of one constraint that [`ConstraintTerms`] is made of, over any number type.
+///
+/// For a surface that moves, `h(t, q)`: the normal velocity is `ḣ = A q̇ + ∂ₜh`, and its
+/// acceleration `ḧ = A q̈ + q̇ᵀ∇²h q̇ + 2 ∂ₜA q̇ + ∂ₜ²h` (docs/forces-and-time.md).
 pub(crate) struct ConstraintParts<const N: usize, T> {
-    /// `h(q)`.
+    /// `h(t, q)`.
     pub h: T,
     /// `A = ∂h/∂q`.
     pub gradient: SVector<T, N>,
-    /// `A q̇`.
+    /// `ḣ = A q̇ + ∂ₜh`.
     pub a_q_dot: T,
-    /// `∇²h q̇`.
+    /// `∇²h q̇ + ∂ₜAᵀ`.
     pub hessian_q_dot: SVector<T, N>,
+    /// `∂ₜh`: 0 where the surface does not move.
+    pub h_t: T,
+    /// `∂ₜA q̇ + ∂ₜ²h`: with `q̇ · hessian_q_dot`, the part of `ḧ` that `q̈` does not give.
+    pub time_drift: T,
 }
 
 /// `[f(0), …, f(N − 1)]`, filled over `fill` by a plain loop: std's `array::from_fn` goes
@@ -156,9 +164,11 @@ fn unit<T: Scalar>(on: bool) -> T {
 /// over whole runs than one pass over a hyper-dual vector with `N × N` matrices.
 pub(crate) fn mass_matrix_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     model: &L,
+    t: T,
     q: &[T],
     q_dot: &[T],
 ) -> SMatrix<T, N, N> {
+    let t_d = HyperDual::from_re(t);
     let q_d: [HyperDual<T>; N] = array(HyperDual::from_re(T::zero()), |k| HyperDual::from_re(q[k]));
     let mut mass = SMatrix::<T, N, N>::zeros();
     for i in 0..N {
@@ -166,7 +176,7 @@ pub(crate) fn mass_matrix_of<T: Scalar, const N: usize, L: HybridLagrangian>(
             let q_dot_d: [HyperDual<T>; N] = array(HyperDual::from_re(T::zero()), |k| {
                 HyperDual::new(q_dot[k], unit(k == i), unit(k == j), T::zero())
             });
-            let m_ij = model.lagrangian(&q_d, &q_dot_d).eps1eps2;
+            let m_ij = model.lagrangian_at(t_d, &q_d, &q_dot_d).eps1eps2;
             mass[(i, j)] = m_ij;
             mass[(j, i)] = m_ij;
         }
@@ -174,16 +184,20 @@ pub(crate) fn mass_matrix_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     mass
 }
 
-/// `M` and the Euler–Lagrange force `∂L/∂q − (∂²L/∂q̇∂q) q̇`, over any number type `T`.
+/// `M` and the Euler–Lagrange force `∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t + Q`, over any number
+/// type `T`.
 pub(crate) fn lagrangian_terms_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     model: &L,
+    t: T,
     q: &[T],
     q_dot: &[T],
 ) -> LagrangianTerms<N, T> {
-    let mass = mass_matrix_of::<T, N, L>(model, q, q_dot);
+    let mass = mass_matrix_of::<T, N, L>(model, t, q, q_dot);
 
-    // (∂²L/∂q̇∂q) q̇: one scalar hyper-dual pass per row, ε₁ on q̇_i, ε₂ along q̇ in q (cheaper
-    // than one pass over a hyper-dual vector, whose optional parts cost branches per operation).
+    // (∂²L/∂q̇∂q) q̇ + ∂²L/∂q̇∂t: one scalar hyper-dual pass per row, ε₁ on q̇_i, ε₂ along
+    // (q̇, 1) in (q, t) (cheaper than one pass over a hyper-dual vector, whose optional parts
+    // cost branches per operation). Where L does not depend on t, its ε₂ part is never read.
+    let t_along = HyperDual::new(t, T::zero(), T::one(), T::zero());
     let q_along: [HyperDual<T>; N] = array(HyperDual::from_re(T::zero()), |k| {
         HyperDual::new(q[k], T::zero(), q_dot[k], T::zero())
     });
@@ -191,51 +205,112 @@ pub(crate) fn lagrangian_terms_of<T: Scalar, const N: usize, L: HybridLagrangian
         let q_dot_d: [HyperDual<T>; N] = array(HyperDual::from_re(T::zero()), |k| {
             HyperDual::new(q_dot[k], unit(k == i), T::zero(), T::zero())
         });
-        model.lagrangian(&q_along, &q_dot_d).eps1eps2
+        model.lagrangian_at(t_along, &q_along, &q_dot_d).eps1eps2
     });
 
     // ∂L/∂q: one scalar dual pass per coordinate. Scalar passes only, here and below: the
     // model's functions are then compiled for a few number types whatever the dimension, where
     // dual vectors made one copy per dimension (most of the build time of a model's crate).
+    let t_g = Dual::from_re(t);
     let q_dot_g: [Dual<T>; N] = array(Dual::from_re(T::zero()), |k| Dual::from_re(q_dot[k]));
     let dl_dq: [T; N] = array(T::zero(), |i| {
         let q_g: [Dual<T>; N] = array(Dual::from_re(T::zero()), |k| Dual::new(q[k], unit(k == i)));
-        model.lagrangian(&q_g, &q_dot_g).eps
+        model.lagrangian_at(t_g, &q_g, &q_dot_g).eps
     });
 
-    LagrangianTerms {
-        mass,
-        force: SVector::from(array(T::zero(), |i| dl_dq[i] - mixed[i])),
+    let mut force = SVector::from(array(T::zero(), |i| dl_dq[i] - mixed[i]));
+    if !model.is_autonomous() {
+        let applied = applied_force_of::<T, N, L>(model, t, q, q_dot);
+        for i in 0..N {
+            force[i] += applied[i];
+        }
     }
+    LagrangianTerms { mass, force }
 }
 
-/// `h`, `A`, `A q̇` and `∇²h q̇` of constraint `index`, over any number type `T`: one scalar
-/// hyper-dual pass per coordinate, `ε₁` on `q_i`, `ε₂` the direction `q̇`.
+/// The applied generalized force `Q(t, q, q̇) − ∂D/∂q̇`: the model's forces and its dissipation
+/// function's, over any number type (one dual pass per coordinate for `∂D/∂q̇`).
+pub(crate) fn applied_force_of<T: Scalar, const N: usize, L: HybridLagrangian>(
+    model: &L,
+    t: T,
+    q: &[T],
+    q_dot: &[T],
+) -> [T; N] {
+    let mut force = [T::zero(); N];
+    model.generalized_force(t, &q[..N], &q_dot[..N], &mut force);
+    let t_g = Dual::from_re(t);
+    let q_g: [Dual<T>; N] = array(Dual::from_re(T::zero()), |k| Dual::from_re(q[k]));
+    for (i, f) in force.iter_mut().enumerate() {
+        let q_dot_g: [Dual<T>; N] = array(Dual::from_re(T::zero()), |k| {
+            Dual::new(q_dot[k], unit(k == i))
+        });
+        *f -= model.dissipation(t_g, &q_g, &q_dot_g).eps;
+    }
+    force
+}
+
+/// The powers that change the energy between impacts, over `f64` (any `n`):
+/// `(Q·q̇, −∂ₜL)`, the applied forces' (with the dissipation's) and the time dependence of `L`'s
+/// (docs/forces-and-time.md).
+pub(crate) fn powers<L: HybridLagrangian>(
+    model: &L,
+    t: f64,
+    q: &[f64],
+    q_dot: &[f64],
+) -> (f64, f64) {
+    with_dimension!(L; q.len(), N => {
+        let applied = applied_force_of::<f64, N, L>(model, t, q, q_dot);
+        let forces: f64 = applied.iter().zip(q_dot).map(|(f, v)| f * v).sum();
+        let q_g: [Dual<f64>; N] = array(Dual::from_re(0.0), |k| Dual::from_re(q[k]));
+        let v_g: [Dual<f64>; N] = array(Dual::from_re(0.0), |k| Dual::from_re(q_dot[k]));
+        let dl_dt = model.lagrangian_at(Dual::new(t, 1.0), &q_g, &v_g).eps;
+        (forces, -dl_dt)
+    })
+}
+
+/// `h`, `A`, `ḣ` and `∇²h q̇ + ∂ₜAᵀ` of constraint `index`, over any number type `T`: one scalar
+/// hyper-dual pass per coordinate, `ε₁` on `q_i`, `ε₂` the direction `(q̇, 1)` in `(q, t)`; and,
+/// for a model that is not autonomous, one more with `ε₁` on `t` for `∂ₜh` and `∂ₜA q̇ + ∂ₜ²h`.
 pub(crate) fn constraint_parts_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
+    t: T,
     q: &[T],
     q_dot: &[T],
 ) -> ConstraintParts<N, T> {
+    let t_along = HyperDual::new(t, T::zero(), T::one(), T::zero());
+    let q_along = |i: Option<usize>| -> [HyperDual<T>; N] {
+        array(HyperDual::from_re(T::zero()), |k| {
+            HyperDual::new(q[k], unit(Some(k) == i), q_dot[k], T::zero())
+        })
+    };
     let passes: [HyperDual<T>; N] = array(HyperDual::from_re(T::zero()), |i| {
-        let q_d: [HyperDual<T>; N] = array(HyperDual::from_re(T::zero()), |k| {
-            HyperDual::new(q[k], unit(k == i), q_dot[k], T::zero())
-        });
-        model.constraint(index, &q_d)
+        model.constraint_at(index, t_along, &q_along(Some(i)))
     });
+    let (h_t, time_drift) = if model.is_autonomous() {
+        (T::zero(), T::zero())
+    } else {
+        let t_d = HyperDual::new(t, T::one(), T::one(), T::zero());
+        let pass = model.constraint_at(index, t_d, &q_along(None));
+        (pass.eps1, pass.eps1eps2)
+    };
     ConstraintParts {
         h: passes[0].re,
         gradient: SVector::from(array(T::zero(), |i| passes[i].eps1)),
         a_q_dot: passes[0].eps2,
         hessian_q_dot: SVector::from(array(T::zero(), |i| passes[i].eps1eps2)),
+        h_t,
+        time_drift,
     }
 }
 
-/// `h`, `ḣ = A q̇` and `ḧ = Ȧ q̇` along free flight of constraint `index`, over any number type,
-/// in one scalar second-order pass (any `n`).
+/// `h`, `ḣ = A q̇ + ∂ₜh` and the part of `ḧ` that `q̈` does not give, `q̇ᵀ∇²h q̇ + 2 ∂ₜA q̇ +
+/// ∂ₜ²h`, of constraint `index` along free flight, over any number type, in one scalar
+/// second-order pass along `(q̇, 1)` (any `n`).
 pub(crate) fn guard_along_of<T: Scalar, L: HybridLagrangian>(
     model: &L,
     index: usize,
+    t: T,
     q: &[T],
     q_dot: &[T],
 ) -> (T, T, T) {
@@ -243,12 +318,18 @@ pub(crate) fn guard_along_of<T: Scalar, L: HybridLagrangian>(
     for ((x, &qi), &vi) in q_d.iter_mut().zip(q).zip(q_dot) {
         *x = Dual2::new(qi, vi, T::zero());
     }
-    let h = model.constraint(index, &q_d[..q.len()]);
+    let t_d = Dual2::new(t, T::one(), T::zero());
+    let h = model.constraint_at(index, t_d, &q_d[..q.len()]);
     (h.re, h.v1, h.v2)
 }
 
 /// The energy `q̇ᵀ ∂L/∂q̇ − L` over any number type (any `n`): a dual in the direction `q̇`.
-pub(crate) fn energy_of<T: Scalar, L: HybridLagrangian>(model: &L, q: &[T], q_dot: &[T]) -> T {
+pub(crate) fn energy_of<T: Scalar, L: HybridLagrangian>(
+    model: &L,
+    t: T,
+    q: &[T],
+    q_dot: &[T],
+) -> T {
     let mut q_d = [Dual::<T>::from_re(T::zero()); MAX_DIMENSION];
     let mut v_d = [Dual::<T>::from_re(T::zero()); MAX_DIMENSION];
     for (x, &qi) in q_d.iter_mut().zip(q) {
@@ -258,22 +339,23 @@ pub(crate) fn energy_of<T: Scalar, L: HybridLagrangian>(model: &L, q: &[T], q_do
         *v = Dual::new(vi, vi);
     }
     let n = q.len();
-    let l = model.lagrangian(&q_d[..n], &v_d[..n]);
+    let l = model.lagrangian_at(Dual::from_re(t), &q_d[..n], &v_d[..n]);
     l.eps - l.re
 }
 
 /// `M = ∂²L/∂q̇²`: from the model's compiled derivatives if it has them, else differentiated.
 pub(crate) fn mass_matrix<const N: usize, L: HybridLagrangian>(
     model: &L,
+    t: f64,
     q: &[f64],
     q_dot: &[f64],
 ) -> SMatrix<f64, N, N> {
     match model
         .compiled()
-        .and_then(|c| c.lagrangian_terms::<N>(q, q_dot))
+        .and_then(|c| c.lagrangian_terms::<N>(t, q, q_dot))
     {
         Some(terms) => terms.mass,
-        None => mass_matrix_of::<f64, N, L>(model, q, q_dot),
+        None => mass_matrix_of::<f64, N, L>(model, t, q, q_dot),
     }
 }
 
@@ -281,31 +363,33 @@ pub(crate) fn mass_matrix<const N: usize, L: HybridLagrangian>(
 #[cfg(test)]
 pub(crate) fn lagrangian_terms<const N: usize, L: HybridLagrangian>(
     model: &L,
+    t: f64,
     q: &[f64],
     q_dot: &[f64],
 ) -> LagrangianTerms<N> {
     match model
         .compiled()
-        .and_then(|c| c.lagrangian_terms::<N>(q, q_dot))
+        .and_then(|c| c.lagrangian_terms::<N>(t, q, q_dot))
     {
         Some(terms) => terms,
-        None => lagrangian_terms_of::<f64, N, L>(model, q, q_dot),
+        None => lagrangian_terms_of::<f64, N, L>(model, t, q, q_dot),
     }
 }
 
-/// `h` and `A` of constraint `index` at `q`: compiled or differentiated.
+/// `h` and `A` of constraint `index` at `(t, q)`: compiled or differentiated.
 pub(crate) fn constraint_terms<const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
+    t: f64,
     q: &[f64],
 ) -> ConstraintTerms<N> {
     let q_dot = [0.0; N];
     let parts = match model
         .compiled()
-        .and_then(|c| c.constraint_parts::<N>(index, q, &q_dot))
+        .and_then(|c| c.constraint_parts::<N>(index, t, q, &q_dot))
     {
         Some(parts) => parts,
-        None => constraint_parts_of::<f64, N, L>(model, index, q, &q_dot),
+        None => constraint_parts_of::<f64, N, L>(model, index, t, q, &q_dot),
     };
     ConstraintTerms {
         h: parts.h,
@@ -313,28 +397,30 @@ pub(crate) fn constraint_terms<const N: usize, L: HybridLagrangian>(
     }
 }
 
-/// `h`, `A q̇` and `Ȧ q̇` of constraint `index`, without the full gradient: the guard and its
-/// first two time derivatives along free flight (any `n`); compiled or differentiated.
+/// `h`, `ḣ` and the part of `ḧ` that `q̈` does not give, of constraint `index`, without the full
+/// gradient: the guard and its first two time derivatives along free flight (any `n`);
+/// compiled or differentiated.
 pub(crate) fn guard_along<L: HybridLagrangian>(
     model: &L,
     index: usize,
+    t: f64,
     q: &[f64],
     q_dot: &[f64],
 ) -> (f64, f64, f64) {
     match model
         .compiled()
-        .and_then(|c| c.guard_along(index, q, q_dot))
+        .and_then(|c| c.guard_along(index, t, q, q_dot))
     {
         Some(guard) => guard,
-        None => guard_along_of::<f64, L>(model, index, q, q_dot),
+        None => guard_along_of::<f64, L>(model, index, t, q, q_dot),
     }
 }
 
 /// The energy `q̇ᵀ ∂L/∂q̇ − L` (any `n`): compiled or differentiated.
-pub(crate) fn energy<L: HybridLagrangian>(model: &L, q: &[f64], q_dot: &[f64]) -> f64 {
-    match model.compiled().and_then(|c| c.energy(q, q_dot)) {
+pub(crate) fn energy<L: HybridLagrangian>(model: &L, t: f64, q: &[f64], q_dot: &[f64]) -> f64 {
+    match model.compiled().and_then(|c| c.energy(t, q, q_dot)) {
         Some(e) => e,
-        None => energy_of::<f64, L>(model, q, q_dot),
+        None => energy_of::<f64, L>(model, t, q, q_dot),
     }
 }
 
@@ -419,8 +505,8 @@ mod tests {
             |d: &[f64]| -> Vec<f64> { [0.0; N].iter().copied().chain(d.iter().copied()).collect() };
 
         // M = ∂²L/∂q̇².
-        let terms = lagrangian_terms::<N, L>(model, q, v);
-        let mass = mass_matrix::<N, L>(model, q, v);
+        let terms = lagrangian_terms::<N, L>(model, 0.0, q, v);
+        let mass = mass_matrix::<N, L>(model, 0.0, q, v);
         prop_assert_eq!(
             mass,
             terms.mass,
@@ -464,7 +550,12 @@ mod tests {
 
         // The energy q̇ᵀ ∂L/∂q̇ − L.
         let p_dot_v: f64 = (0..N).map(|i| v[i] * d1(&lz, &z, &in_v(&unit(N, i)))).sum();
-        close("energy", energy(model, q, v), p_dot_v - lz(&z), l_scale)?;
+        close(
+            "energy",
+            energy(model, 0.0, q, v),
+            p_dot_v - lz(&z),
+            l_scale,
+        )?;
 
         // The constraints: h, A, A q̇, Ȧ q̇ = q̇ᵀ ∇²h q̇, and guard_along.
         for index in 0..model.constraints().len() {
@@ -493,7 +584,7 @@ mod tests {
             close("A q̇", c.a_q_dot, d1(&hq, q, v), h_scale)?;
             close("Ȧ q̇", c.a_dot_q_dot, d2(&hq, q, v, v), h_scale)?;
 
-            let (g, g_dot, g_ddot) = guard_along(model, index, q, v);
+            let (g, g_dot, g_ddot) = guard_along(model, index, 0.0, q, v);
             prop_assert_eq!(g, c.h, "guard_along's h");
             let tight = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()));
             prop_assert!(
@@ -557,7 +648,7 @@ mod tests {
         q: &[f64],
         v: &[f64],
     ) -> FullTerms<N> {
-        let motion = crate::motion::constrained_motion::<N, L>(model, index, q, v);
+        let motion = crate::motion::constrained_motion::<N, L>(model, index, 0.0, q, v);
         FullTerms {
             h: motion.direction.h,
             gradient: motion.direction.gradient,
@@ -584,8 +675,8 @@ mod tests {
         q: &[f64],
         v: &[f64],
     ) -> Result<(), TestCaseError> {
-        let terms = compiled.lagrangian_terms::<N>(q, v).expect("traced");
-        let reference = lagrangian_terms_of::<f64, N, L>(model, q, v);
+        let terms = compiled.lagrangian_terms::<N>(0.0, q, v).expect("traced");
+        let reference = lagrangian_terms_of::<f64, N, L>(model, 0.0, q, v);
         for (k, (a, b)) in terms.mass.iter().zip(reference.mass.iter()).enumerate() {
             same_bits(&format!("M[{k}]"), *a, *b)?;
         }
@@ -593,8 +684,10 @@ mod tests {
             same_bits(&format!("force[{k}]"), *a, *b)?;
         }
         for index in 0..model.constraints().len() {
-            let c = compiled.constraint_parts::<N>(index, q, v).expect("traced");
-            let r = constraint_parts_of::<f64, N, L>(model, index, q, v);
+            let c = compiled
+                .constraint_parts::<N>(index, 0.0, q, v)
+                .expect("traced");
+            let r = constraint_parts_of::<f64, N, L>(model, index, 0.0, q, v);
             same_bits("h", c.h, r.h)?;
             same_bits("A q̇", c.a_q_dot, r.a_q_dot)?;
             for k in 0..N {
@@ -605,16 +698,16 @@ mod tests {
                     r.hessian_q_dot[k],
                 )?;
             }
-            let g = compiled.guard_along(index, q, v).expect("traced");
-            let rg = guard_along_of::<f64, L>(model, index, q, v);
+            let g = compiled.guard_along(index, 0.0, q, v).expect("traced");
+            let rg = guard_along_of::<f64, L>(model, index, 0.0, q, v);
             same_bits("guard h", g.0, rg.0)?;
             same_bits("guard ḣ", g.1, rg.1)?;
             same_bits("guard ḧ", g.2, rg.2)?;
         }
         same_bits(
             "energy",
-            compiled.energy(q, v).expect("traced"),
-            energy_of::<f64, L>(model, q, v),
+            compiled.energy(0.0, q, v).expect("traced"),
+            energy_of::<f64, L>(model, 0.0, q, v),
         )?;
         // A program refuses (None, and zenosim computes instead) only where the motion divides
         // by a zero that the tracer may have signed differently: a zero pivot of M, or s = 0.
@@ -622,27 +715,27 @@ mod tests {
             |d: &crate::motion::Direction<N>| d.s == 0.0 || d.pivots.iter().any(|&p| p == 0.0);
         same_outputs(
             "free motion",
-            compiled.free_motion::<N>(q, v).as_ref(),
-            &free_motion_of::<f64, N, L>(model, q, v),
+            compiled.free_motion::<N>(0.0, q, v).as_ref(),
+            &free_motion_of::<f64, N, L>(model, 0.0, q, v),
             |m| m.pivots.iter().any(|&p| p == 0.0),
         )?;
         for index in 0..model.constraints().len() {
             same_outputs(
                 &format!("motion held on constraint {index}"),
-                compiled.constrained_motion::<N>(index, q, v).as_ref(),
-                &constrained_motion_of::<f64, N, L>(model, index, q, v),
+                compiled.constrained_motion::<N>(index, 0.0, q, v).as_ref(),
+                &constrained_motion_of::<f64, N, L>(model, index, 0.0, q, v),
                 |m| zero_divisor(&m.direction),
             )?;
             same_outputs(
                 &format!("acceleration held on constraint {index}"),
-                compiled.held_acceleration::<N>(index, q, v).as_ref(),
-                &held_acceleration_of::<f64, N, L>(model, index, q, v),
+                compiled.held_acceleration::<N>(index, 0.0, q, v).as_ref(),
+                &held_acceleration_of::<f64, N, L>(model, index, 0.0, q, v),
                 |m| m.s == 0.0 || m.pivots.iter().any(|&p| p == 0.0),
             )?;
             same_outputs(
                 &format!("direction of constraint {index}"),
-                compiled.direction::<N>(index, q, v).as_ref(),
-                &direction_of::<f64, N, L>(model, index, q, v),
+                compiled.direction::<N>(index, 0.0, q, v).as_ref(),
+                &direction_of::<f64, N, L>(model, index, 0.0, q, v),
                 zero_divisor,
             )?;
         }
@@ -714,12 +807,16 @@ mod tests {
         // guard, the motion held on it and its direction did not.
         assert_eq!(compiled.coverage(), (3, 8));
         assert!(compiled
-            .constrained_motion::<1>(0, &[0.3], &[1.0])
+            .constrained_motion::<1>(0, 0.0, &[0.3], &[1.0])
             .is_none());
-        assert!(compiled.free_motion::<1>(&[0.3], &[1.0]).is_some());
-        assert!(compiled.constraint_parts::<1>(0, &[0.3], &[1.0]).is_none());
-        assert!(compiled.guard_along(0, &[0.3], &[1.0]).is_none());
-        assert!(compiled.lagrangian_terms::<1>(&[0.3], &[1.0]).is_some());
+        assert!(compiled.free_motion::<1>(0.0, &[0.3], &[1.0]).is_some());
+        assert!(compiled
+            .constraint_parts::<1>(0, 0.0, &[0.3], &[1.0])
+            .is_none());
+        assert!(compiled.guard_along(0, 0.0, &[0.3], &[1.0]).is_none());
+        assert!(compiled
+            .lagrangian_terms::<1>(0.0, &[0.3], &[1.0])
+            .is_some());
         // The trace is over: an ordinary evaluation is unaffected.
         assert!(!crate::Compiled::is_tracing());
     }
@@ -737,17 +834,19 @@ mod tests {
         // That constant is the dual numbers' only where q̇ is finite (they multiply it by M's
         // zero derivatives): a run checks the velocity, and gives nothing where it is not.
         let q = [0.1, 0.2, 0.3];
-        assert!(compiled.free_motion::<3>(&q, &[1.0, 2.0, 3.0]).is_some());
         assert!(compiled
-            .free_motion::<3>(&q, &[1.0, f64::NAN, 3.0])
+            .free_motion::<3>(0.0, &q, &[1.0, 2.0, 3.0])
+            .is_some());
+        assert!(compiled
+            .free_motion::<3>(0.0, &q, &[1.0, f64::NAN, 3.0])
             .is_none());
         assert!(compiled
-            .free_motion::<3>(&q, &[1.0, 2.0, f64::INFINITY])
+            .free_motion::<3>(0.0, &q, &[1.0, 2.0, f64::INFINITY])
             .is_none());
         // The cart pendulum's M depends on θ: its motion is assembled from the traced parts.
         let cart = CartPendulum::demo().model;
         assert!(!crate::Compiled::trace_n::<2, _>(&cart).constant_mass());
-        let terms = compiled.lagrangian_terms::<3>(&[0.1, 0.2, 0.3], &[1.0, 2.0, 3.0]);
+        let terms = compiled.lagrangian_terms::<3>(0.0, &[0.1, 0.2, 0.3], &[1.0, 2.0, 3.0]);
         assert!(terms.is_some());
         // 61 when written: 7 each for the constraint and its guard, 8 for its direction, 14
         // for the motion held on the surface, 10 for the acceleration held on it, 15 for the
@@ -808,7 +907,7 @@ mod tests {
         fn pendulum_chain_closed_form(q in vec_in(-3.2..3.2, 5), v in vec_in(-3.0..3.0, 5)) {
             let chain = PendulumChain::new(5, 0.7, 1.3, 9.81, 1.1, 0.5);
             let (l, m) = (0.7, 1.3);
-            let mass = mass_matrix::<5, _>(&chain, &q, &v);
+            let mass = mass_matrix::<5, _>(&chain, 0.0, &q, &v);
             for i in 0..5 {
                 for j in 0..5 {
                     let exact = m * (5 - i.max(j)) as f64 * l * l * (q[i] - q[j]).cos();
@@ -872,7 +971,7 @@ mod tests {
         fn ball_on_sine_closed_form(q in vec_in(-4.0..4.0, 3), v in vec_in(-3.0..3.0, 3)) {
             let (m, g) = (2.5, 9.8);
             let model = BallOnSine::new(m, g, 0.9);
-            let terms = lagrangian_terms::<3, _>(&model, &q, &v);
+            let terms = lagrangian_terms::<3, _>(&model, 0.0, &q, &v);
             for i in 0..3 {
                 for j in 0..3 {
                     prop_assert_eq!(terms.mass[(i, j)], if i == j { m } else { 0.0 });
@@ -892,7 +991,7 @@ mod tests {
                 "Ȧ q̇ = {} but sin(x2) ẋ2² = {}", c.a_dot_q_dot, q[1].sin() * v[1] * v[1]
             );
             let e = 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) + m * g * q[2];
-            prop_assert!((energy(&model, &q, &v) - e).abs() <= 1e-13 * (1.0 + e.abs()));
+            prop_assert!((energy(&model, 0.0, &q, &v) - e).abs() <= 1e-13 * (1.0 + e.abs()));
         }
 
         /// The energies in closed form, `T + V` (REFERENCE §3's Lagrangians).
@@ -906,7 +1005,7 @@ mod tests {
             };
             let ball = BouncingBall::new(1.3, 9.81, 0.5);
             let e_ball = [0.5 * 1.3 * v[0] * v[0], 1.3 * 9.81 * q[0]];
-            prop_assert!(close(energy(&ball, &q[..1], &v[..1]), &e_ball));
+            prop_assert!(close(energy(&ball, 0.0, &q[..1], &v[..1]), &e_ball));
 
             let cart = CartPendulum::demo().model;
             let (mc, mb, l, g) = (10.0, 5.0, 10.0, 9.8);
@@ -917,14 +1016,14 @@ mod tests {
                 0.5 * mb * l * l * thd * thd,
                 mb * g * l * th.cos(),
             ];
-            prop_assert!(close(energy(&cart, &q, &v), &e_cart), "{} vs {:?}", energy(&cart, &q, &v), e_cart);
+            prop_assert!(close(energy(&cart, 0.0, &q, &v), &e_cart), "{} vs {:?}", energy(&cart, 0.0, &q, &v), e_cart);
 
             let sph = SphericalPendulum::demo().model;
             let e_sph = [
                 0.5 * 100.0 * (thd * thd + th.sin().powi(2) * v[1] * v[1]),
                 9.8 * 10.0 * th.cos(),
             ];
-            prop_assert!(close(energy(&sph, &q, &v), &e_sph), "{} vs {:?}", energy(&sph, &q, &v), e_sph);
+            prop_assert!(close(energy(&sph, 0.0, &q, &v), &e_sph), "{} vs {:?}", energy(&sph, 0.0, &q, &v), e_sph);
         }
     }
 }

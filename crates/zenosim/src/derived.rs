@@ -18,6 +18,7 @@ use crate::model::HybridLagrangian;
 pub struct Derived<'a, L> {
     mech: Mechanics<'a, L>,
     n: usize,
+    t: f64,
 }
 
 impl<'a, L: HybridLagrangian> Derived<'a, L> {
@@ -29,19 +30,34 @@ impl<'a, L: HybridLagrangian> Derived<'a, L> {
         Ok(Self {
             mech: Mechanics::new(model),
             n,
+            t: 0.0,
         })
+    }
+
+    /// The same quantities at time `t` (0 until set): for a model whose `L`, `h` or forces
+    /// depend on time.
+    pub fn at_time(mut self, t: f64) -> Self {
+        self.t = t;
+        self
+    }
+
+    /// The powers that change the energy between impacts, `(Q·q̇, −∂L/∂t)`: the generalized
+    /// forces' (with the dissipation function's) and the time dependence of `L`'s
+    /// (docs/forces-and-time.md).
+    pub fn powers(&self, q: &[f64], q_dot: &[f64]) -> (f64, f64) {
+        crate::derivatives::powers(self.mech.model(), self.t, q, q_dot)
     }
 
     /// The energy `q̇ᵀ ∂L/∂q̇ − L`.
     pub fn energy(&self, q: &[f64], q_dot: &[f64]) -> f64 {
-        energy(self.mech.model(), q, q_dot)
+        energy(self.mech.model(), self.t, q, q_dot)
     }
 
     /// The mass matrix `M = ∂²L/∂q̇²`, row by row (it is symmetric), and whether it is positive
     /// definite.
     pub fn mass_matrix(&self, q: &[f64], q_dot: &[f64]) -> (Vec<f64>, bool) {
         let mut m = vec![0.0; self.n * self.n];
-        let positive = self.mech.mass_matrix(q, q_dot, &mut m).is_ok();
+        let positive = self.mech.mass_matrix(self.t, q, q_dot, &mut m).is_ok();
         (m, positive)
     }
 
@@ -63,19 +79,21 @@ impl<'a, L: HybridLagrangian> Derived<'a, L> {
         q_dot: &[f64],
         q_ddot: &mut [f64],
     ) -> Option<f64> {
-        self.mech.acceleration(q, q_dot, active, q_ddot).ok()
+        self.mech
+            .acceleration(self.t, q, q_dot, active, q_ddot)
+            .ok()
     }
 
-    /// `h(q)` and `A = ∂h/∂q` of constraint `index`.
+    /// `h(t, q)` and `A = ∂h/∂q` of constraint `index`.
     pub fn constraint(&self, index: usize, q: &[f64]) -> (f64, Vec<f64>) {
         let mut a = vec![0.0; self.n];
-        let h = self.mech.constraint_gradient(index, q, &mut a);
+        let h = self.mech.constraint_gradient(index, self.t, q, &mut a);
         (h, a)
     }
 
-    /// `A q̇`: the rate of `h` (the normal velocity).
+    /// `ḣ = A q̇ + ∂h/∂t`: the rate of `h` (the normal velocity).
     pub fn normal_velocity(&self, index: usize, q: &[f64], q_dot: &[f64]) -> f64 {
-        guard_along(self.mech.model(), index, q, q_dot).1
+        guard_along(self.mech.model(), index, self.t, q, q_dot).1
     }
 
     /// The multiplier `λ` that holds the motion on constraint `index` (the constraint pushes
@@ -83,7 +101,7 @@ impl<'a, L: HybridLagrangian> Derived<'a, L> {
     pub fn multiplier(&self, index: usize, q: &[f64], q_dot: &[f64]) -> Option<f64> {
         let mut w = vec![0.0; self.n];
         self.mech
-            .normal(index, q, q_dot, &mut w)
+            .normal(index, self.t, q, q_dot, &mut w)
             .ok()
             .map(|normal| normal.lambda())
     }
@@ -92,7 +110,7 @@ impl<'a, L: HybridLagrangian> Derived<'a, L> {
     /// after it, or `None` if it failed.
     pub fn project(&self, index: usize, q: &mut [f64], q_dot: &mut [f64]) -> Option<(f64, f64)> {
         self.mech
-            .project(index, q, q_dot)
+            .project(index, self.t, q, q_dot)
             .ok()
             .map(|r| (r.h, r.a_q_dot))
     }

@@ -78,6 +78,13 @@ pub enum Error {
         /// `h(q0)`.
         h: f64,
     },
+    /// A model that declares itself autonomous ([`crate::HybridLagrangian::is_autonomous`])
+    /// has a function that depends on `t`, a generalized force or a dissipation function.
+    #[error("the model declares itself autonomous (is_autonomous() = true), but its {what}; return false from is_autonomous() so that zenosim accounts for it")]
+    NotAutonomous {
+        /// What was found, in words.
+        what: String,
+    },
     /// `M = ∂²L/∂q̇²` is not positive definite.
     #[error("at t = {}: the mass matrix ∂²L/∂q̇² is not positive definite (q = {q:?}, q_dot = {q_dot:?}); every coordinate needs a kinetic term, and coordinate singularities (like sin θ = 0) must be avoided", Readable(*t))]
     SingularMassMatrix {

@@ -255,6 +255,37 @@ pub struct Execution {
     pub final_mode: Mode,
     /// Work counters.
     pub stats: RunStats,
+    /// The energy's balance from the start to [`Execution::t_final`].
+    pub work: Work,
+}
+
+/// The energy balance of a run up to some time (docs/forces-and-time.md):
+/// `E(t) − E(0) = forces + drive + constraints − impact_loss`, to the integration tolerance.
+///
+/// Between events the three works are integrated along the trajectory (Gauss–Legendre on each
+/// step's dense output); at an impact its impulses' work and its loss are added from the law.
+/// Autonomous, conservative models do no work: only `impact_loss` grows.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Work {
+    /// `∫ Q·q̇ dt`: the work of the generalized forces, the dissipation function's included
+    /// (negative where they dissipate).
+    pub forces: f64,
+    /// `−∫ ∂L/∂t dt`: the energy put in by the explicit time dependence of `L` (a prescribed
+    /// motion written into the Lagrangian).
+    pub drive: f64,
+    /// The work of the constraint forces and impulses on surfaces that move: `−∫ λᵢ Aᵢq̇ dt`
+    /// while held, and `−Σ Λᵢ ∂ₜhᵢ` at impacts (0 where no surface moves).
+    pub constraints: f64,
+    /// The energy taken out by impacts, `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻) ≥ 0`, and by the switches at Zeno
+    /// points (their measured change).
+    pub impact_loss: f64,
+}
+
+impl Work {
+    /// `forces + drive + constraints − impact_loss`: what `E(t) − E(0)` should be.
+    pub fn balance(&self) -> f64 {
+        self.forces + self.drive + self.constraints - self.impact_loss
+    }
 }
 
 impl Execution {

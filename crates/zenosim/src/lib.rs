@@ -54,7 +54,7 @@ pub use derivatives::MAX_DIMENSION;
 pub use derived::Derived;
 pub use error::{Error, Readable};
 pub use execution::{
-    ActiveSet, Event, EventKind, Execution, HybridInterval, Mode, Outcome, RunStats, State,
+    ActiveSet, Event, EventKind, Execution, HybridInterval, Mode, Outcome, RunStats, State, Work,
     ZenoKind, ZenoPoint,
 };
 pub use integrator::{Method, Tolerances};

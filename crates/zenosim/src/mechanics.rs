@@ -2,10 +2,11 @@
 //! the impact map `P`, and the projection `R∞` onto `h = 0, A q̇ = 0`.
 //!
 //! Conventions (REFERENCE §1, the paper's typo corrected):
-//! - free motion `M q̈ = f`, `f = ∂L/∂q − (∂²L/∂q̇∂q) q̇`;
+//! - free motion `M q̈ = f`, `f = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t + Q` (docs/forces-and-time.md);
 //! - constrained motion `M q̈ = f − Aᵀλ`, `λ = (A M⁻¹ Aᵀ)⁻¹ (A M⁻¹ f + Ȧ q̇)`; the contact force is
 //!   `−Aᵀλ`, so the constraint pushes while `λ ≤ 0`, and `λ = ḧ_free / (A M⁻¹ Aᵀ)`;
-//! - impact `q̇⁺ = q̇ − (1+e) (A q̇)/(A M⁻¹ Aᵀ) M⁻¹ Aᵀ`, so `A q̇⁺ = −e A q̇⁻`.
+//! - impact `q̇⁺ = q̇ − (1+e) ḣ/(A M⁻¹ Aᵀ) M⁻¹ Aᵀ`, so `ḣ⁺ = −e ḣ⁻`, with the normal velocity
+//!   `ḣ = A q̇ + ∂ₜh` (`A q̇` where the surface does not move).
 
 use crate::derivatives::{constraint_terms, mass_matrix, with_dimension};
 use crate::execution::ActiveSet;
@@ -103,6 +104,7 @@ fn normal_of<const N: usize>(
     let curvature = norm(motion.hessian_q_dot.as_slice());
     let normal = Normal {
         a_q_dot: d.a_q_dot,
+        h_t: d.h_t,
         h_ddot_free: motion.h_ddot_free,
         s: d.s,
         gradient_norm,
@@ -127,8 +129,10 @@ fn norm(x: &[f64]) -> f64 {
 /// A constraint's normal response, from [`Mechanics::normal`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Normal {
-    /// `A q̇`: the normal velocity (`ḣ`).
+    /// `ḣ = A q̇ + ∂ₜh`: the normal velocity.
     pub a_q_dot: f64,
+    /// `∂ₜh`: the surface's own normal velocity (0 where it does not move).
+    pub h_t: f64,
     /// `ḧ` under the free motion: `A M⁻¹ f + Ȧ q̇`.
     pub h_ddot_free: f64,
     /// `A M⁻¹ Aᵀ`.
@@ -200,18 +204,20 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
     /// returns `λ` of the active constraint (0 when free).
     pub fn acceleration(
         &self,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
         active: Option<usize>,
         q_ddot: &mut [f64],
     ) -> Result<f64, DynamicsError> {
-        with_dimension!(L; self.n, N => self.acceleration_n::<N>(q, q_dot, active, q_ddot))
+        with_dimension!(L; self.n, N => self.acceleration_n::<N>(t, q, q_dot, active, q_ddot))
     }
 
     /// The first-order right-hand side at `y = (q, q̇)`: `(q̇, q̈)` into `dy`, `q̈` as
     /// [`Mechanics::acceleration`] gives it; returns `λ` as it does.
     pub fn state_derivative(
         &self,
+        t: f64,
         y: &[f64],
         active: Option<usize>,
         dy: &mut [f64],
@@ -220,9 +226,9 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             let (q, q_dot) = y.split_at(N);
             let (velocity, q_ddot) = dy.split_at_mut(N);
             velocity.copy_from_slice(&q_dot[..N]);
-            match self.held_compiled::<N>(q, q_dot, active, q_ddot) {
+            match self.held_compiled::<N>(t, q, q_dot, active, q_ddot) {
                 Some(lambda) => lambda,
-                None => self.acceleration_n::<N>(q, q_dot, active, q_ddot),
+                None => self.acceleration_n::<N>(t, q, q_dot, active, q_ddot),
             }
         })
     }
@@ -235,6 +241,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
     #[inline(always)]
     fn held_compiled<const N: usize>(
         &self,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
         active: Option<usize>,
@@ -244,7 +251,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         let Route::Whole(compiled) = route(self.model) else {
             return None;
         };
-        compiled.held_view::<N, _>(index, q, q_dot, |held| {
+        compiled.held_view::<N, _>(index, t, q, q_dot, |held| {
             let (s, gradient_norm2, w_norm2) = held.acting();
             check_acting(held.pivots(), s, gradient_norm2, w_norm2, index)?;
             write_finite(held.acc(), held.lambda(), q_ddot)?;
@@ -254,6 +261,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
 
     fn acceleration_n<const N: usize>(
         &self,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
         active: Option<usize>,
@@ -261,12 +269,12 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
     ) -> Result<f64, DynamicsError> {
         let (acc, lambda) = match active {
             None => {
-                let motion = free_motion::<N, L>(self.model, q, q_dot);
+                let motion = free_motion::<N, L>(self.model, t, q, q_dot);
                 check_pivots(motion.pivots.as_slice())?;
                 (motion.acc, 0.0)
             }
             Some(index) => {
-                let held = held_acceleration::<N, L>(self.model, index, q, q_dot);
+                let held = held_acceleration::<N, L>(self.model, index, t, q, q_dot);
                 check_acting(
                     held.pivots.as_slice(),
                     held.s,
@@ -287,12 +295,13 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
     pub fn normal(
         &self,
         index: usize,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
         w: &mut [f64],
     ) -> Result<Normal, DynamicsError> {
         with_dimension!(L; self.n, N => {
-            let motion = constrained_motion::<N, L>(self.model, index, q, q_dot);
+            let motion = constrained_motion::<N, L>(self.model, index, t, q, q_dot);
             check_direction(&motion.direction, index)?;
             w[..N].copy_from_slice(motion.direction.w.as_slice());
             normal_of(&motion, q_dot)
@@ -305,28 +314,30 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
     pub fn held_acceleration_and_normal(
         &self,
         index: usize,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
         q_ddot: &mut [f64],
     ) -> Result<Normal, DynamicsError> {
         with_dimension!(L; self.n, N => {
-            let motion = constrained_motion::<N, L>(self.model, index, q, q_dot);
+            let motion = constrained_motion::<N, L>(self.model, index, t, q, q_dot);
             check_direction(&motion.direction, index)?;
             write_finite(motion.acc.as_slice(), motion.lambda, q_ddot)?;
             normal_of(&motion, q_dot)
         })
     }
 
-    /// The impact map `P`: `q̇ ← q̇ − (1+e)(A q̇)/(A M⁻¹ Aᵀ) M⁻¹ Aᵀ` for constraint `index`.
+    /// The impact map `P`: `q̇ ← q̇ − (1+e) ḣ/(A M⁻¹ Aᵀ) M⁻¹ Aᵀ` for constraint `index`.
     pub fn impact(
         &self,
         index: usize,
         e: f64,
+        t: f64,
         q: &[f64],
         q_dot: &mut [f64],
     ) -> Result<(), DynamicsError> {
         with_dimension!(L; self.n, N => {
-            let d = direction::<N, L>(self.model, index, q, q_dot);
+            let d = direction::<N, L>(self.model, index, t, q, q_dot);
             check_direction(&d, index)?;
             let scale = (1.0 + e) * d.a_q_dot / d.s;
             for (v, wi) in q_dot.iter_mut().zip(d.w.as_slice()) {
@@ -342,28 +353,30 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
     pub fn project(
         &self,
         index: usize,
+        t: f64,
         q: &mut [f64],
         q_dot: &mut [f64],
     ) -> Result<Residuals, DynamicsError> {
-        with_dimension!(L; self.n, N => self.project_n::<N>(index, q, q_dot))
+        with_dimension!(L; self.n, N => self.project_n::<N>(index, t, q, q_dot))
     }
 
     fn project_n<const N: usize>(
         &self,
         index: usize,
+        t: f64,
         q: &mut [f64],
         q_dot: &mut [f64],
     ) -> Result<Residuals, DynamicsError> {
         const MAX_NEWTON: usize = 30;
         // Scaled by how much the coordinates weigh in h (|h| + Σ|A_i q_i|, in h's units, and
         // divided by |A| in q's): a coordinate h ignores must not loosen the stop.
-        let mut c = direction::<N, L>(self.model, index, q, q_dot);
+        let mut c = direction::<N, L>(self.model, index, t, q, q_dot);
         let h_scale = guard_scale(c.h, c.gradient.as_slice(), q).max(1.0);
         let q_scale = (h_scale / norm(c.gradient.as_slice())).max(1.0);
         let mut best = f64::INFINITY;
         for iteration in 0..MAX_NEWTON {
             if iteration > 0 {
-                c = direction::<N, L>(self.model, index, q, q_dot);
+                c = direction::<N, L>(self.model, index, t, q, q_dot);
             }
             if !c.h.is_finite() {
                 return Err(DynamicsError::NonFinite);
@@ -383,7 +396,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
                 }
                 let residuals = Residuals {
                     h: c.h.abs(),
-                    a_q_dot: dot(c.gradient.as_slice(), &q_dot[..N]).abs(),
+                    a_q_dot: (dot(c.gradient.as_slice(), &q_dot[..N]) + c.h_t).abs(),
                 };
                 if residuals.h > 1e-12 * h_scale {
                     break;
@@ -395,7 +408,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
                 *x -= step * wi;
             }
         }
-        let c = constraint_terms::<N, L>(self.model, index, q);
+        let c = constraint_terms::<N, L>(self.model, index, t, q);
         Err(DynamicsError::Projection {
             constraint: index,
             residual: c.h.abs(),
@@ -405,21 +418,22 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
     /// `M(q)` (symmetric, so row- and column-major agree) into `out` (`n²` entries); an error if it is not positive definite.
     pub fn mass_matrix(
         &self,
+        t: f64,
         q: &[f64],
         q_dot: &[f64],
         out: &mut [f64],
     ) -> Result<(), DynamicsError> {
         with_dimension!(L; self.n, N => {
-            let m = mass_matrix::<N, L>(self.model, q, q_dot);
+            let m = mass_matrix::<N, L>(self.model, t, q, q_dot);
             out[..N * N].copy_from_slice(m.as_slice());
             Ok(check_pivots(pivots(&m).as_slice())?)
         })
     }
 
     /// `A = ∂h/∂q` of constraint `index` into `out`; returns `h`.
-    pub fn constraint_gradient(&self, index: usize, q: &[f64], out: &mut [f64]) -> f64 {
+    pub fn constraint_gradient(&self, index: usize, t: f64, q: &[f64], out: &mut [f64]) -> f64 {
         with_dimension!(L; self.n, N => {
-            let c = constraint_terms::<N, L>(self.model, index, q);
+            let c = constraint_terms::<N, L>(self.model, index, t, q);
             out[..N].copy_from_slice(c.gradient.as_slice());
             c.h
         })

@@ -65,6 +65,46 @@ pub trait HybridLagrangian {
     /// The constraint function `h_index(q)`.
     fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D;
 
+    /// The Lagrangian `L(t, q, q̇)` at time `t`. Default: [`Self::lagrangian`], which does not
+    /// depend on `t`. A model whose `L` does implements this and returns `false` from
+    /// [`Self::is_autonomous`].
+    #[inline]
+    fn lagrangian_at<D: Scalar>(&self, _t: D, q: &[D], q_dot: &[D]) -> D {
+        self.lagrangian(q, q_dot)
+    }
+
+    /// The constraint function `h_index(t, q)` of a surface that may move. Default:
+    /// [`Self::constraint`]. A model whose surfaces move implements this and returns `false`
+    /// from [`Self::is_autonomous`].
+    #[inline]
+    fn constraint_at<D: Scalar>(&self, index: usize, _t: D, q: &[D]) -> D {
+        self.constraint(index, q)
+    }
+
+    /// Adds the generalized force `Q(t, q, q̇)` (motor torques, feedback laws, drives, drag) to
+    /// `force` (`n` entries): `M q̈ = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t + Q`. Default: none. A
+    /// model with forces returns `false` from [`Self::is_autonomous`].
+    #[inline]
+    fn generalized_force<D: Scalar>(&self, _t: D, _q: &[D], _q_dot: &[D], _force: &mut [D]) {}
+
+    /// A Rayleigh dissipation function `D(t, q, q̇)`, whose force `−∂D/∂q̇` zenosim derives and
+    /// adds to [`Self::generalized_force`]. Default: none (zero). A model with one returns
+    /// `false` from [`Self::is_autonomous`].
+    #[inline]
+    fn dissipation<D: Scalar>(&self, _t: D, _q: &[D], _q_dot: &[D]) -> D {
+        D::zero()
+    }
+
+    /// Whether the model is an autonomous, conservative hybrid Lagrangian: no `t` in `L` or in
+    /// any `h`, no generalized force, no dissipation (the default, `true`). Return `false`
+    /// when any of those is present: zenosim then takes the time derivatives of the
+    /// constraints, adds the forces, and accounts for the work done (a simulation checks at
+    /// its start that an autonomous model's functions do not depend on `t` and that it has no
+    /// force, and refuses one that does).
+    fn is_autonomous(&self) -> bool {
+        true
+    }
+
     /// The coordinates' names, for records and messages. Default: `q1, q2, …`.
     fn coordinate_names(&self) -> Vec<String> {
         (1..=self.dimension()).map(|i| format!("q{i}")).collect()
@@ -77,6 +117,12 @@ pub trait HybridLagrangian {
     /// result onto `h = 0, A q̇ = 0` so that the constrained phase starts on the constraint.
     fn completion_map(&self, _index: usize, _q: &mut [f64], _q_dot: &mut [f64]) -> bool {
         false
+    }
+
+    /// [`Self::completion_map`] at time `t`, for a map that depends on it. Default: the map
+    /// without `t`.
+    fn completion_map_at(&self, index: usize, _t: f64, q: &mut [f64], q_dot: &mut [f64]) -> bool {
+        self.completion_map(index, q, q_dot)
     }
 
     /// The model's derivatives traced ahead of time, which zenosim then runs instead of

@@ -129,8 +129,10 @@ pub(crate) struct Direction<const N: usize, T = f64> {
     pub h: T,
     /// `A = ∂h/∂q`.
     pub gradient: SVector<T, N>,
-    /// `A q̇`.
+    /// `ḣ = A q̇ + ∂ₜh`: the normal velocity.
     pub a_q_dot: T,
+    /// `∂ₜh`: the surface's own velocity along its normal (0 where it does not move).
+    pub h_t: T,
     /// `w = M⁻¹ Aᵀ`.
     pub w: SVector<T, N>,
     /// `s = A M⁻¹ Aᵀ`.
@@ -143,6 +145,7 @@ impl<const N: usize, T: Scalar> Outputs<T> for Direction<N, T> {
         out.push(self.h);
         out.extend(self.gradient.iter().copied());
         out.push(self.a_q_dot);
+        out.push(self.h_t);
         out.extend(self.w.iter().copied());
         out.push(self.s);
     }
@@ -152,6 +155,7 @@ impl<const N: usize, T: Scalar> Outputs<T> for Direction<N, T> {
             h: c.scalar(),
             gradient: c.vector(),
             a_q_dot: c.scalar(),
+            h_t: c.scalar(),
             w: c.vector(),
             s: c.scalar(),
         }
@@ -162,13 +166,14 @@ impl<const N: usize, T: Scalar> Outputs<T> for Direction<N, T> {
 pub(crate) struct ConstrainedMotion<const N: usize, T = f64> {
     /// The constraint, its direction, and `M`'s pivots.
     pub direction: Direction<N, T>,
-    /// `∇²h q̇`.
+    /// `∇²h q̇ + ∂ₜAᵀ`.
     pub hessian_q_dot: SVector<T, N>,
-    /// `Ȧ q̇ = q̇ᵀ ∇²h q̇`.
+    /// The part of `ḧ` that `q̈` does not give: `Ȧ q̇ = q̇ᵀ ∇²h q̇`, and `+ 2 ∂ₜA q̇ + ∂ₜ²h`
+    /// where the surface moves.
     pub a_dot_q_dot: T,
     /// The free acceleration `M⁻¹ f`.
     pub acc_free: SVector<T, N>,
-    /// `ḧ` under the free motion: `A M⁻¹ f + Ȧ q̇`.
+    /// `ḧ` under the free motion: `A M⁻¹ f + Ȧ q̇` (with the surface's motion).
     pub h_ddot_free: T,
     /// `λ = ḧ_free / (A M⁻¹ Aᵀ)`.
     pub lambda: T,
@@ -284,10 +289,11 @@ pub(crate) fn dot<T: Scalar>(a: &[T], b: &[T]) -> T {
 /// The free motion, over any number type.
 pub(crate) fn free_motion_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     model: &L,
+    t: T,
     q: &[T],
     q_dot: &[T],
 ) -> FreeMotion<N, T> {
-    free_from(&lagrangian_terms_of::<T, N, L>(model, q, q_dot))
+    free_from(&lagrangian_terms_of::<T, N, L>(model, t, q, q_dot))
 }
 
 /// The free motion from `M` and the force.
@@ -311,6 +317,7 @@ fn direction_from<T: Scalar, const N: usize>(
         s: dot(parts.gradient.as_slice(), w.as_slice()),
         gradient: parts.gradient,
         a_q_dot: parts.a_q_dot,
+        h_t: parts.h_t,
         w,
     };
     (direction, parts.hessian_q_dot)
@@ -320,11 +327,12 @@ fn direction_from<T: Scalar, const N: usize>(
 pub(crate) fn direction_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
+    t: T,
     q: &[T],
     q_dot: &[T],
 ) -> Direction<N, T> {
-    let factor = Factor::new(&mass_matrix_of::<T, N, L>(model, q, q_dot));
-    let parts = constraint_parts_of::<T, N, L>(model, index, q, q_dot);
+    let factor = Factor::new(&mass_matrix_of::<T, N, L>(model, t, q, q_dot));
+    let parts = constraint_parts_of::<T, N, L>(model, index, t, q, q_dot);
     direction_from(&parts, &factor).0
 }
 
@@ -332,11 +340,12 @@ pub(crate) fn direction_of<T: Scalar, const N: usize, L: HybridLagrangian>(
 pub(crate) fn constrained_motion_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
+    t: T,
     q: &[T],
     q_dot: &[T],
 ) -> ConstrainedMotion<N, T> {
-    let terms = lagrangian_terms_of::<T, N, L>(model, q, q_dot);
-    let parts = constraint_parts_of::<T, N, L>(model, index, q, q_dot);
+    let terms = lagrangian_terms_of::<T, N, L>(model, t, q, q_dot);
+    let parts = constraint_parts_of::<T, N, L>(model, index, t, q, q_dot);
     constrained_from(&terms, &parts, q_dot)
 }
 
@@ -349,7 +358,7 @@ fn constrained_from<T: Scalar, const N: usize>(
     let factor = Factor::new(&terms.mass);
     let acc_free = factor.solve(&terms.force);
     let (direction, hessian_q_dot) = direction_from(parts, &factor);
-    let a_dot_q_dot = dot(hessian_q_dot.as_slice(), &q_dot[..N]);
+    let a_dot_q_dot = dot(hessian_q_dot.as_slice(), &q_dot[..N]) + parts.time_drift;
     let h_ddot_free = dot(direction.gradient.as_slice(), acc_free.as_slice()) + a_dot_q_dot;
     let lambda = h_ddot_free / direction.s;
     let acc = SVector::from(array(T::zero(), |i| acc_free[i] - direction.w[i] * lambda));
@@ -369,10 +378,11 @@ fn constrained_from<T: Scalar, const N: usize>(
 pub(crate) fn held_acceleration_of<T: Scalar, const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
+    t: T,
     q: &[T],
     q_dot: &[T],
 ) -> HeldAcceleration<N, T> {
-    held_from(&constrained_motion_of::<T, N, L>(model, index, q, q_dot))
+    held_from(&constrained_motion_of::<T, N, L>(model, index, t, q, q_dot))
 }
 
 /// What a right-hand side needs of the motion held on a constraint.
@@ -412,27 +422,31 @@ pub(crate) fn route<L: HybridLagrangian>(model: &L) -> Route<'_> {
 /// The free motion: compiled if the model has it, else computed over `f64`.
 pub(crate) fn free_motion<const N: usize, L: HybridLagrangian>(
     model: &L,
+    t: f64,
     q: &[f64],
     q_dot: &[f64],
 ) -> FreeMotion<N> {
     let motion = match route(model) {
-        Route::Whole(c) => c.free_motion::<N>(q, q_dot),
-        Route::Parts(c) => c.lagrangian_terms::<N>(q, q_dot).map(|t| free_from(&t)),
+        Route::Whole(c) => c.free_motion::<N>(t, q, q_dot),
+        Route::Parts(c) => c
+            .lagrangian_terms::<N>(t, q, q_dot)
+            .map(|terms| free_from(&terms)),
         Route::None => None,
     };
-    motion.unwrap_or_else(|| free_motion_of::<f64, N, L>(model, q, q_dot))
+    motion.unwrap_or_else(|| free_motion_of::<f64, N, L>(model, t, q, q_dot))
 }
 
 /// `M`, the force and constraint `index`'s derivatives from the compiled parts.
 fn parts<const N: usize>(
     c: &crate::Compiled,
     index: usize,
+    t: f64,
     q: &[f64],
     q_dot: &[f64],
 ) -> Option<(LagrangianTerms<N>, ConstraintParts<N, f64>)> {
     Some((
-        c.lagrangian_terms::<N>(q, q_dot)?,
-        c.constraint_parts::<N>(index, q, q_dot)?,
+        c.lagrangian_terms::<N>(t, q, q_dot)?,
+        c.constraint_parts::<N>(index, t, q, q_dot)?,
     ))
 }
 
@@ -440,51 +454,52 @@ fn parts<const N: usize>(
 pub(crate) fn constrained_motion<const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
+    t: f64,
     q: &[f64],
     q_dot: &[f64],
 ) -> ConstrainedMotion<N> {
     let motion = match route(model) {
-        Route::Whole(c) => c.constrained_motion::<N>(index, q, q_dot),
+        Route::Whole(c) => c.constrained_motion::<N>(index, t, q, q_dot),
         Route::Parts(c) => {
-            parts::<N>(c, index, q, q_dot).map(|(t, p)| constrained_from(&t, &p, q_dot))
+            parts::<N>(c, index, t, q, q_dot).map(|(terms, p)| constrained_from(&terms, &p, q_dot))
         }
         Route::None => None,
     };
-    motion.unwrap_or_else(|| constrained_motion_of::<f64, N, L>(model, index, q, q_dot))
+    motion.unwrap_or_else(|| constrained_motion_of::<f64, N, L>(model, index, t, q, q_dot))
 }
 
 /// The acceleration held on constraint `index`: compiled, or computed over `f64`.
 pub(crate) fn held_acceleration<const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
+    t: f64,
     q: &[f64],
     q_dot: &[f64],
 ) -> HeldAcceleration<N> {
     let held = match route(model) {
-        Route::Whole(c) => c.held_acceleration::<N>(index, q, q_dot),
-        Route::Parts(c) => {
-            parts::<N>(c, index, q, q_dot).map(|(t, p)| held_from(&constrained_from(&t, &p, q_dot)))
-        }
+        Route::Whole(c) => c.held_acceleration::<N>(index, t, q, q_dot),
+        Route::Parts(c) => parts::<N>(c, index, t, q, q_dot)
+            .map(|(terms, p)| held_from(&constrained_from(&terms, &p, q_dot))),
         Route::None => None,
     };
-    held.unwrap_or_else(|| held_acceleration_of::<f64, N, L>(model, index, q, q_dot))
+    held.unwrap_or_else(|| held_acceleration_of::<f64, N, L>(model, index, t, q, q_dot))
 }
 
 /// Constraint `index`'s direction: compiled, or computed over `f64`.
 pub(crate) fn direction<const N: usize, L: HybridLagrangian>(
     model: &L,
     index: usize,
+    t: f64,
     q: &[f64],
     q_dot: &[f64],
 ) -> Direction<N> {
     let direction = match route(model) {
-        Route::Whole(c) => c.direction::<N>(index, q, q_dot),
-        Route::Parts(c) => {
-            parts::<N>(c, index, q, q_dot).map(|(t, p)| direction_from(&p, &Factor::new(&t.mass)).0)
-        }
+        Route::Whole(c) => c.direction::<N>(index, t, q, q_dot),
+        Route::Parts(c) => parts::<N>(c, index, t, q, q_dot)
+            .map(|(terms, p)| direction_from(&p, &Factor::new(&terms.mass)).0),
         Route::None => None,
     };
-    direction.unwrap_or_else(|| direction_of::<f64, N, L>(model, index, q, q_dot))
+    direction.unwrap_or_else(|| direction_of::<f64, N, L>(model, index, t, q, q_dot))
 }
 
 /// Whether a constraint has no direction to act in: `s = A M⁻¹ Aᵀ` is not positive, or

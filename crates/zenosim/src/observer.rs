@@ -1,7 +1,7 @@
 //! Watching a run: the trajectory is streamed to an [`Observer`] as it is computed, so memory
 //! stays flat however long the run; [`Trajectory`] keeps it in memory instead.
 
-use crate::execution::{Event, Mode};
+use crate::execution::{Event, Mode, Work};
 
 /// One point of the trajectory, with what the mechanics says there.
 #[derive(Clone, Copy, Debug)]
@@ -20,6 +20,8 @@ pub struct Sample<'a> {
     pub lambda: &'a [f64],
     /// The energy `q̇ᵀ ∂L/∂q̇ − L`.
     pub energy: f64,
+    /// The energy balance from the start to `t` ([`Work`]).
+    pub work: Work,
 }
 
 /// Receives the trajectory and the events of a run as they happen.
@@ -61,6 +63,8 @@ pub struct Point {
     pub lambda: Vec<f64>,
     /// The energy.
     pub energy: f64,
+    /// The energy balance from the start ([`Work`]).
+    pub work: Work,
 }
 
 /// An observer that keeps the whole trajectory in memory.
@@ -80,6 +84,7 @@ impl Observer for Trajectory {
             h: s.h.to_vec(),
             lambda: s.lambda.to_vec(),
             energy: s.energy,
+            work: s.work,
         });
     }
 }

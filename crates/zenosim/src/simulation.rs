@@ -77,9 +77,12 @@ impl<'a, L: HybridLagrangian> Simulation<'a, L> {
                 });
             }
         }
+        if model.is_autonomous() {
+            check_autonomous(model, q0, q_dot0)?;
+        }
         let mut mass = vec![0.0; n * n];
         if Mechanics::new(model)
-            .mass_matrix(q0, q_dot0, &mut mass)
+            .mass_matrix(0.0, q0, q_dot0, &mut mass)
             .is_err()
         {
             return Err(Error::SingularMassMatrix {
@@ -106,4 +109,49 @@ impl<'a, L: HybridLagrangian> Simulation<'a, L> {
     pub fn run(&self, observer: &mut impl Observer) -> Execution {
         Runner::new(self, observer).run()
     }
+}
+
+/// Refuses a model that declares itself autonomous but whose `L` or `h` change with `t` at the
+/// initial state, or that has a force or a dissipation there: zenosim would otherwise leave out
+/// their terms ([`HybridLagrangian::is_autonomous`]).
+fn check_autonomous<L: HybridLagrangian>(
+    model: &L,
+    q0: &[f64],
+    q_dot0: &[f64],
+) -> Result<(), Error> {
+    let refuse = |what: &str| {
+        Err(Error::NotAutonomous {
+            what: what.to_string(),
+        })
+    };
+    let times = [0.0, 0.731, -2.25];
+    let l0 = model.lagrangian_at(0.0, q0, q_dot0);
+    if times
+        .iter()
+        .any(|&t| model.lagrangian_at(t, q0, q_dot0).to_bits() != l0.to_bits())
+    {
+        return refuse("Lagrangian changes with t");
+    }
+    for (index, c) in model.constraints().iter().enumerate() {
+        let h0 = model.constraint_at(index, 0.0, q0);
+        if times
+            .iter()
+            .any(|&t| model.constraint_at(index, t, q0).to_bits() != h0.to_bits())
+        {
+            return refuse(&format!("constraint '{}' changes with t", c.name));
+        }
+    }
+    // At the initial velocity and at another (a dissipation function vanishes at rest).
+    let moving: Vec<f64> = q_dot0.iter().map(|v| v + 0.37).collect();
+    for v in [q_dot0, &moving] {
+        let mut force = vec![0.0; q0.len()];
+        model.generalized_force(0.731, q0, v, &mut force);
+        if force.iter().any(|&f| f != 0.0) {
+            return refuse("generalized force is not zero");
+        }
+        if model.dissipation(0.731, q0, v) != 0.0 {
+            return refuse("dissipation function is not zero");
+        }
+    }
+    Ok(())
 }

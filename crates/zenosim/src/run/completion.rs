@@ -43,7 +43,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let q = &y[..n];
         // Round-off floor of the guard: the rounding of h = h(q) as the coordinates round.
         let mut gradient = std::mem::take(&mut self.scratch);
-        let h = self.mech.constraint_gradient(index, q, &mut gradient);
+        let h = self.mech.constraint_gradient(index, t, q, &mut gradient);
         let h_scale = guard_scale(h, &gradient[..n], q);
         self.scratch = gradient;
         let height = normal.a_q_dot.max(0.0).powi(2) / (2.0 * -normal.h_ddot_free);
@@ -63,7 +63,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let (q, q_dot) = y.split_at(n);
         let tol = self.sim.options.tolerances;
         let mut acc = std::mem::take(&mut self.scratch);
-        let free = self.mech.acceleration(q, q_dot, None, &mut acc[..n]);
+        let free = self.mech.acceleration(t, q, q_dot, None, &mut acc[..n]);
         let acc_rate: f64 = (0..n)
             .map(|i| {
                 let sq = tol.atol + tol.rtol * q[i].abs();
@@ -140,6 +140,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     fn stop_at(&mut self, point: ZenoPoint, y: &[f64]) -> Next {
         let (constraint, t, t_zeno) = (point.constraint, point.t_switch, point.t_zeno);
         self.zeno.push(point);
+        // Best effort: the run stops here.
+        let _ = self.advance_work(t);
         self.t = t;
         self.y.copy_from_slice(y);
         Next::Stop(Outcome::ZenoStalled { constraint, t_zeno })
@@ -165,13 +167,13 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 // acts on the state as it is, as in the paper.
                 if self.sim.options.zeno == ZenoStrategy::Auto {
                     self.mech
-                        .project(index, q, q_dot)
+                        .project(index, t, q, q_dot)
                         .map_err(|err| self.fail_dynamics(err, t, &before))?;
                 }
-                self.sim.model.completion_map(index, q, q_dot);
+                self.sim.model.completion_map_at(index, t, q, q_dot);
             }
             self.mech
-                .project(index, q, q_dot)
+                .project(index, t, q, q_dot)
                 .map_err(|err| self.fail_dynamics(err, t, &before))?;
         }
         let (kind, remaining) = match prediction {
@@ -210,10 +212,10 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     }
 
     /// The constraints of `set` within `ε` of their surfaces at `y` (`|h| ≤ ε`).
-    pub(super) fn within_epsilon(&self, set: ActiveSet, y: &[f64], eps: f64) -> ActiveSet {
+    pub(super) fn within_epsilon(&self, set: ActiveSet, t: f64, y: &[f64], eps: f64) -> ActiveSet {
         let q = &y[..self.n];
         set.iter()
-            .filter(|&i| self.sim.model.constraint::<f64>(i, q).abs() <= eps)
+            .filter(|&i| self.sim.model.constraint_at::<f64>(i, t, q).abs() <= eps)
             .fold(ActiveSet::empty(), ActiveSet::with)
     }
 
@@ -221,12 +223,13 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     pub(super) fn epsilon_met(
         &mut self,
         set: ActiveSet,
+        t: f64,
         y: &[f64],
         eps: f64,
     ) -> Result<bool, Error> {
         let (q, q_dot) = y.split_at(self.n);
         for index in set.iter() {
-            let (h, h_dot, _) = guard_along(self.sim.model, index, q, q_dot);
+            let (h, h_dot, _) = guard_along(self.sim.model, index, t, q, q_dot);
             if !(h.abs() <= eps && h_dot.abs() <= eps) {
                 return Ok(false);
             }
@@ -270,7 +273,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         // The constraints of the last impact that are at their surfaces take part too (two
         // walls reached at once, again and again).
         let accumulating = accumulating.union(involved);
-        if !self.near(accumulating, y) {
+        if !self.near(accumulating, t, y) {
             return Ok(None);
         }
         let ulps = match self.sim.options.zeno {
@@ -278,7 +281,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             _ => OFF_ROUND_OFF_ULPS,
         };
         let resolved = p.next_flight <= time_resolution(t)
-            || self.below_round_off(accumulating, y, p.next_flight, ulps)
+            || self.below_round_off(accumulating, t, y, p.next_flight, ulps)
             || (self.sim.options.zeno == ZenoStrategy::Auto
                 && p.remaining * self.resolution_rate(t, y)? <= 1.0);
         if !resolved {
@@ -316,19 +319,19 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let mut acc = vec![0.0; self.n];
         let motion = if held.len() == 1 {
             self.mech
-                .acceleration(q, q_dot, held.only(), &mut acc)
+                .acceleration(t, q, q_dot, held.only(), &mut acc)
                 .map(|_| ())
         } else {
-            contact::held_acceleration(&self.mech, held, q, q_dot, &mut acc).map(|_| ())
+            contact::held_acceleration(&self.mech, held, t, q, q_dot, &mut acc).map(|_| ())
         };
         motion.map_err(|err| self.fail_dynamics(err, t, y))?;
         // ḧ = A q̈ + Ȧ q̇, with Ȧ q̇ = ḧ_free − A M⁻¹ f.
         let mut free = vec![0.0; self.n];
         self.mech
-            .acceleration(q, q_dot, None, &mut free)
+            .acceleration(t, q, q_dot, None, &mut free)
             .map_err(|err| self.fail_dynamics(err, t, y))?;
         let mut gradient = vec![0.0; self.n];
-        self.mech.constraint_gradient(index, q, &mut gradient);
+        self.mech.constraint_gradient(index, t, q, &mut gradient);
         let change: f64 = gradient
             .iter()
             .zip(acc.iter().zip(&free))
@@ -343,24 +346,25 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     pub(super) fn below_round_off(
         &mut self,
         set: ActiveSet,
+        t: f64,
         y: &[f64],
         flight: f64,
         ulps: f64,
     ) -> bool {
         let (q, q_dot) = y.split_at(self.n);
         set.iter().all(|index| {
-            let surface = self.surface(index, q, q_dot);
+            let surface = self.surface(index, t, q, q_dot);
             surface.a_q_dot.abs() * flight <= ulps * f64::EPSILON * surface.h_scale
         })
     }
 
     /// Whether every constraint of `set` is within a hundred position tolerances of its surface
     /// at `y`.
-    pub(super) fn near(&mut self, set: ActiveSet, y: &[f64]) -> bool {
+    pub(super) fn near(&mut self, set: ActiveSet, t: f64, y: &[f64]) -> bool {
         let tol = self.sim.options.tolerances;
         let (q, q_dot) = y.split_at(self.n);
         set.iter().all(|index| {
-            let surface = self.surface(index, q, q_dot);
+            let surface = self.surface(index, t, q, q_dot);
             surface.h.abs() <= surface.tolerance(100.0, tol)
         })
     }
@@ -376,7 +380,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         prediction: Option<Prediction>,
     ) -> Result<Next, Error> {
         let mut after = before.clone();
-        project_onto(&self.mech, set, self.n, &mut after)
+        project_onto(&self.mech, set, t, self.n, &mut after)
             .map_err(|err| self.fail_dynamics(err, t, &before))?;
         let held = self.held_of(set, t, &after)?;
         let remaining = prediction.map_or(0.0, |p| p.remaining);

@@ -22,10 +22,10 @@ pub(super) struct Equations<'a, L> {
 impl<L: HybridLagrangian> Equations<'_, L> {
     /// The right-hand side held on two or more constraints (docs/contact-laws.md, law 1).
     #[inline(never)]
-    fn rhs_on_set(&self, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
+    fn rhs_on_set(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
         let (q, q_dot) = y.split_at(self.n);
         dy[..self.n].copy_from_slice(q_dot);
-        contact::held_acceleration(&self.mech, self.set, q, q_dot, &mut dy[self.n..]).map(|_| ())
+        contact::held_acceleration(&self.mech, self.set, t, q, q_dot, &mut dy[self.n..]).map(|_| ())
     }
 }
 
@@ -39,11 +39,13 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
     /// Free or on one constraint, the mechanics' right-hand side, inlined into the stages;
     /// on a set, [`Equations::rhs_on_set`], kept out of line so that it does not stop that.
     #[inline(always)]
-    fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
         if self.set.is_empty() {
-            self.mech.state_derivative(y, self.active, dy).map(|_| ())
+            self.mech
+                .state_derivative(t, y, self.active, dy)
+                .map(|_| ())
         } else {
-            self.rhs_on_set(y, dy)
+            self.rhs_on_set(t, y, dy)
         }
     }
 
@@ -56,22 +58,22 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
         };
         let (q, q_dot) = y.split_at(self.n);
         dy[..self.n].copy_from_slice(q_dot);
-        let normal = self
-            .mech
-            .held_acceleration_and_normal(index, q, q_dot, &mut dy[self.n..])?;
+        let normal =
+            self.mech
+                .held_acceleration_and_normal(index, t, q, q_dot, &mut dy[self.n..])?;
         self.end = Some((t, normal));
         Ok(())
     }
 
-    /// On a constraint, the drift of the step's end put back: `h = 0`, `A q̇ = 0`
+    /// On a constraint, the drift of the step's end put back: `h = 0`, `ḣ = 0`
     /// ([`Mechanics::project`]). The next step starts there, and the step's dense output ends
     /// there.
-    fn correct_end(&mut self, _t: f64, y: &mut [f64]) -> Result<bool, DynamicsError> {
+    fn correct_end(&mut self, t: f64, y: &mut [f64]) -> Result<bool, DynamicsError> {
         let (q, q_dot) = y.split_at_mut(self.n);
         match self.active {
-            Some(index) => self.mech.project(index, q, q_dot).map(|_| true),
+            Some(index) => self.mech.project(index, t, q, q_dot).map(|_| true),
             None if self.set.is_empty() => Ok(false),
-            None => contact::project(&self.mech, self.set, q, q_dot).map(|_| true),
+            None => contact::project(&self.mech, self.set, t, q, q_dot).map(|_| true),
         }
     }
 }
@@ -81,13 +83,14 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
 pub(super) fn project_onto<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
     set: ActiveSet,
+    t: f64,
     n: usize,
     y: &mut [f64],
 ) -> Result<(), DynamicsError> {
     let (q, q_dot) = y.split_at_mut(n);
     match set.only() {
         _ if set.is_empty() => Ok(()),
-        Some(index) => mech.project(index, q, q_dot).map(|_| ()),
-        None => contact::project(mech, set, q, q_dot),
+        Some(index) => mech.project(index, t, q, q_dot).map(|_| ()),
+        None => contact::project(mech, set, t, q, q_dot),
     }
 }

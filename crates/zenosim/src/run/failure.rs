@@ -17,7 +17,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         q_dot: &[f64],
     ) -> Result<Normal, Error> {
         let mut w = std::mem::take(&mut self.w);
-        let normal = self.mech.normal(index, q, q_dot, &mut w);
+        let normal = self.mech.normal(index, t, q, q_dot, &mut w);
         self.w = w;
         normal.map_err(|err| {
             let mut y = q.to_vec();
@@ -77,6 +77,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     pub(super) fn fail_at(&mut self, t: f64, y: &[f64], error: Error) -> Error {
         // Best effort: the run is failing already; what can be sent is sent.
         let _ = self.emit_grid_before(t);
+        let _ = self.advance_work(t);
         let _ = self.emit(t, y, self.mode);
         self.t = t;
         self.y.copy_from_slice(y);

@@ -50,7 +50,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         // The first contact; the others at the surface join it in the impact law.
         let mut contact = None;
         for index in 0..self.sim.model.constraints().len() {
-            let (h, _, _) = guard_along(self.sim.model, index, q, q_dot);
+            let (h, _, _) = guard_along(self.sim.model, index, self.t, q, q_dot);
             if h > 0.0 || leaving(&self.normal(index, self.t, q, q_dot)?) {
                 continue;
             }
@@ -82,7 +82,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         // A surface where ∂h/∂q vanishes (h = x³ at x = 0) has no normal to bounce along: below
         // the position tolerance, h is dominated by its curvature, not by its gradient.
         let tol = self.sim.options.tolerances;
-        let q_tol = tol.atol + tol.rtol * self.surface(index, q, q_dot).q_scale();
+        let q_tol = tol.atol + tol.rtol * self.surface(index, t_event, q, q_dot).q_scale();
         if normal.gradient_norm <= 0.5 * normal.curvature * q_tol {
             let error = Error::DegenerateConstraint {
                 t: t_event,
@@ -140,7 +140,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let (q, q_dot) = y.split_at(self.n);
         let start = set;
         for other in (0..m).filter(|&i| !start.contains(i)) {
-            let surface = self.surface(other, q, q_dot);
+            let surface = self.surface(other, t, q, q_dot);
             let close = surface.h <= surface.tolerance(1.0, tol);
             if !close {
                 continue;
@@ -154,15 +154,20 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     }
 
     /// Constraint `index` at `(q, q̇)`: `h`, `|A|`, the size of `h`'s terms and `A q̇`.
-    pub(super) fn surface(&mut self, index: usize, q: &[f64], q_dot: &[f64]) -> Surface {
+    pub(super) fn surface(&mut self, index: usize, t: f64, q: &[f64], q_dot: &[f64]) -> Surface {
         let mut gradient = std::mem::take(&mut self.scratch);
-        let h = self.mech.constraint_gradient(index, q, &mut gradient);
+        let h = self.mech.constraint_gradient(index, t, q, &mut gradient);
         let a = &gradient[..self.n];
+        let a_q_dot: f64 = a.iter().zip(q_dot).map(|(a, v)| a * v).sum();
         let surface = Surface {
             h,
             norm: a.iter().map(|a| a * a).sum::<f64>().sqrt(),
             h_scale: guard_scale(h, a, q),
-            a_q_dot: a.iter().zip(q_dot).map(|(a, v)| a * v).sum(),
+            a_q_dot: if self.sim.model.is_autonomous() {
+                a_q_dot
+            } else {
+                guard_along(self.sim.model, index, t, q, q_dot).1
+            },
         };
         self.scratch = gradient;
         surface
@@ -179,7 +184,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         mut y: Vec<f64>,
     ) -> Result<(f64, Vec<f64>), Error> {
         let n = self.n;
-        let (h, _, _) = guard_along(self.sim.model, index, &y[..n], &y[n..]);
+        let (h, _, _) = guard_along(self.sim.model, index, t, &y[..n], &y[n..]);
         let in_last_step = self.stepper.t_previous() < t && t <= self.stepper.t();
         if h >= 0.0 || !in_last_step {
             return Ok((t, y));
@@ -188,7 +193,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let cubic = self.cubic;
         let mut t_new = t;
         for _ in 0..8 {
-            let (h, h_dot, _) = guard_along(self.sim.model, index, &y[..n], &y[n..]);
+            let (h, h_dot, _) = guard_along(self.sim.model, index, t_new, &y[..n], &y[n..]);
             if h >= 0.0 || h_dot >= 0.0 || h.is_nan() {
                 break;
             }
@@ -217,6 +222,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             self.check_step_limit()?;
             let stepped = self.stepper.step(&mut eqs, t, h);
             stepped.map_err(|e| self.step_error(e))?;
+            self.advance_work(self.stepper.t())?;
         }
         Ok(self.stepper.y().to_vec())
     }
@@ -243,8 +249,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             let crossing = first_crossing(t0, t1, |t| {
                 interpolate(stepper, cubic, t, &mut y);
                 // Best effort: a failed projection just leaves the sample as it is.
-                let _ = project_onto(&mech, held, n, &mut y);
-                let (h, h_dot, _) = guard_along(mech.model(), index, &y[..n], &y[n..]);
+                let _ = project_onto(&mech, held, t, n, &mut y);
+                let (h, h_dot, _) = guard_along(mech.model(), index, t, &y[..n], &y[n..]);
                 (h, Some(h_dot))
             });
             self.scratch = y;
@@ -267,7 +273,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let before = self.state_at(t)?;
         let (t, mut before) = self.admissible_side(other, t, before)?;
         // Best effort: the interpolated state is within the tolerance of the held constraints.
-        let _ = project_onto(&self.mech, self.held(), self.n, &mut before);
+        let _ = project_onto(&self.mech, self.held(), t, self.n, &mut before);
         self.crossing(other, t, before, hint, found)
     }
 }

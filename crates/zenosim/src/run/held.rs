@@ -48,7 +48,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 interpolate(stepper, cubic, t, &mut y);
                 let (q, q_dot) = y.split_at(n);
                 let margin = mech
-                    .normal(index, q, q_dot, &mut w)
+                    .normal(index, t, q, q_dot, &mut w)
                     .map_or(f64::NAN, |normal| normal.lift_margin());
                 (lift_guard(margin), None)
             });
@@ -64,7 +64,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             {
                 let (q, q_dot) = state.split_at_mut(n);
                 self.mech
-                    .project(index, q, q_dot)
+                    .project(index, t, q, q_dot)
                     .map_err(|err| self.dynamics_error(err, t, &state.clone()))?;
             }
             return self.liftoff(index, t, state);
@@ -109,7 +109,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     pub(super) fn set_margin(&mut self, set: ActiveSet, t: f64, y: &[f64]) -> Result<f64, Error> {
         let (q, q_dot) = y.split_at(self.n);
         let mut acc = vec![0.0; self.n];
-        let held = contact::held_acceleration(&self.mech, set, q, q_dot, &mut acc);
+        let held = contact::held_acceleration(&self.mech, set, t, q, q_dot, &mut acc);
         let (_, hold) = held.map_err(|err| self.fail_dynamics(err, t, y))?;
         Ok(hold.margin())
     }
@@ -136,7 +136,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             first_crossing(t0, t1, |t| {
                 interpolate(stepper, cubic, t, &mut y);
                 let (q, q_dot) = y.split_at(n);
-                let margin = contact::held_acceleration(&mech, set, q, q_dot, &mut acc)
+                let margin = contact::held_acceleration(&mech, set, t, q, q_dot, &mut acc)
                     .map_or(f64::NAN, |(_, hold)| hold.margin());
                 (lift_guard(margin), None)
             })
@@ -147,7 +147,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             self.emit_grid_before(t)?;
             let mut state = self.state_at(t)?;
             let copy = state.clone();
-            project_onto(&self.mech, set, n, &mut state)
+            project_onto(&self.mech, set, t, n, &mut state)
                 .map_err(|err| self.fail_dynamics(err, t, &copy))?;
             return self.set_liftoff(set, t, state);
         }
@@ -168,7 +168,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             // At the root itself law 1 may still see the force at 0: the largest margin goes.
             let (q, q_dot) = state.split_at(self.n);
             let mut acc = vec![0.0; self.n];
-            let solved = contact::held_acceleration(&self.mech, set, q, q_dot, &mut acc)
+            let solved = contact::held_acceleration(&self.mech, set, t, q, q_dot, &mut acc)
                 .map(|(c, hold)| (hold.margins, c.indices));
             let (margins, indices) = solved.map_err(|err| self.fail_dynamics(err, t, &state))?;
             let worst = (0..margins.len())

@@ -22,16 +22,16 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         hint: f64,
     ) -> Result<Next, Error> {
         let e = self.sim.model.constraints()[index].restitution;
-        let h: f64 = self.sim.model.constraint(index, &before[..self.n]);
+        let h: f64 = self.sim.model.constraint_at(index, t, &before[..self.n]);
         if let ZenoStrategy::Epsilon(eps) = self.sim.options.zeno {
             // The paper's rule, on the state just before the impact.
             // The crossing is replaced by R∞: it is no impact, and not counted as one.
             let candidates = self.accumulation.constraints().with(index);
-            let near = self.within_epsilon(candidates, &before, eps);
+            let near = self.within_epsilon(candidates, t, &before, eps);
             if near.len() > 1 && near.contains(index) {
                 // An accumulation over several constraints: the rule on all of them that are
                 // within ε of their surfaces.
-                if self.epsilon_met(near, &before, eps)? {
+                if self.epsilon_met(near, t, &before, eps)? {
                     let p = self.accumulation.predict();
                     return self.switch_set(index, near, t, before, p);
                 }
@@ -46,7 +46,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         {
             let (q, q_dot) = after.split_at_mut(self.n);
             self.mech
-                .impact(index, e, q, q_dot)
+                .impact(index, e, t, q, q_dot)
                 .map_err(|err| self.fail_dynamics(err, t, &before))?;
         }
         // Pushing, so not below 0 (at rest, `A q̇` may round to either side of it).
@@ -129,8 +129,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         if let ZenoStrategy::Epsilon(eps) = self.sim.options.zeno {
             // The paper's rule on every constraint of the accumulation and of the impact that
             // is within ε of its surface (the held ones are on theirs).
-            let near = self.within_epsilon(accumulating.union(set), &before, eps);
-            if near.contains(index) && self.epsilon_met(near, &before, eps)? {
+            let near = self.within_epsilon(accumulating.union(set), t, &before, eps);
+            if near.contains(index) && self.epsilon_met(near, t, &before, eps)? {
                 let p = self.accumulation.predict();
                 return self.switch_set(index, near, t, before, p);
             }
@@ -140,7 +140,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             .map(|i| self.sim.model.constraints()[i].restitution)
             .collect();
         let (q, q_dot) = before.split_at(n);
-        let contacts = Contacts::at(&self.mech, set, q, q_dot)
+        let contacts = Contacts::at(&self.mech, set, t, q, q_dot)
             .map_err(|(err, _)| self.fail_dynamics(err, t, &before))?;
         let mut after = before.clone();
         let impulses = contacts
@@ -196,7 +196,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             return Ok(Mode::Free);
         }
         let state = y.to_vec();
-        project_onto(&self.mech, held, self.n, y)
+        project_onto(&self.mech, held, t, self.n, y)
             .map_err(|err| self.fail_dynamics(err, t, &state))?;
         Ok(Mode::Constrained(held))
     }
@@ -220,7 +220,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 closed
             });
         }
-        let contacts = Contacts::at(&self.mech, closed, q, q_dot)
+        let contacts = Contacts::at(&self.mech, closed, t, q, q_dot)
             .map_err(|(err, _)| self.fail_dynamics(err, t, y))?;
         contacts
             .held_set()

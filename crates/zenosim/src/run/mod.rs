@@ -23,10 +23,11 @@ mod flight;
 mod held;
 mod impact;
 mod record;
+mod work;
 
 use crate::error::Error;
 use crate::execution::{
-    ActiveSet, Event, Execution, HybridInterval, Mode, Outcome, RunStats, ZenoPoint,
+    ActiveSet, Event, Execution, HybridInterval, Mode, Outcome, RunStats, Work, ZenoPoint,
 };
 use crate::integrator::{StepError, Stepper};
 use crate::mechanics::{DynamicsError, Mechanics};
@@ -119,6 +120,9 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     w: Vec<f64>,
     h_buf: Vec<f64>,
     lambda_buf: Vec<f64>,
+    /// The energy balance up to `work_t` (`work.rs`).
+    work: Work,
+    work_t: f64,
 }
 
 /// What the post-step logic decided.
@@ -165,6 +169,8 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             w: vec![0.0; n],
             h_buf: vec![0.0; m],
             lambda_buf: vec![0.0; m],
+            work: Work::default(),
+            work_t: 0.0,
         }
     }
 
@@ -195,6 +201,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 impacts: self.impacts,
                 spurious_events: self.spurious,
             },
+            work: self.work,
         }
     }
 
@@ -319,6 +326,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
 
     /// Restarts the integrator at `(t, y)` in the current mode.
     fn restart(&mut self, t: f64, y: &[f64], hint: Option<f64>) -> Result<(), Error> {
+        self.advance_work(t)?;
         self.cubic = false;
         let mut eqs = self.equations();
         let started = self.stepper.start(&mut eqs, t, y, hint);

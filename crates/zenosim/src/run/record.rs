@@ -41,8 +41,10 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             };
             return Err(self.fail_at(t, before, error));
         }
+        self.advance_work(t)?;
         self.emit(t, before, self.mode)?;
         let (contacts, impulses) = change;
+        self.record_jump(kind, (contacts, &impulses), t, before, after)?;
         let event = Event {
             kind,
             t,
@@ -68,6 +70,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     /// Accepts the stepper's step as the execution's: output, and the committed state.
     pub(super) fn commit_step(&mut self) -> Result<(), Error> {
         let t1 = self.stepper.t();
+        self.advance_work(t1)?;
         match self.sim.options.output {
             // (An observer that takes no samples costs no copy of the state.)
             OutputGrid::Steps if self.wants_samples => {
@@ -115,7 +118,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         while self.next_output < t || (inclusive && self.next_output == t) {
             let to = self.next_output;
             interpolate(&self.stepper, self.cubic, to, &mut y);
-            project_onto(&self.mech, self.held(), self.n, &mut y)
+            project_onto(&self.mech, self.held(), to, self.n, &mut y)
                 .map_err(|err| self.dynamics_error(err, to, &self.y.clone()))?;
             self.emit(to, &y, self.mode)?;
             let k = (to / dt).round() + 1.0;
@@ -138,26 +141,27 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let (q, q_dot) = y.split_at(self.n);
         let model = self.sim.model;
         for (i, h) in self.h_buf.iter_mut().enumerate() {
-            *h = model.constraint(i, q);
+            *h = model.constraint_at(i, t, q);
         }
         self.lambda_buf.iter_mut().for_each(|l| *l = 0.0);
         if let Mode::Constrained(active) = mode {
             if let Some(index) = active.only() {
                 let mut w = std::mem::take(&mut self.w);
-                let normal = self.mech.normal(index, q, q_dot, &mut w);
+                let normal = self.mech.normal(index, t, q, q_dot, &mut w);
                 self.w = w;
                 self.lambda_buf[index] = normal
                     .map_err(|err| self.dynamics_error(err, t, y))?
                     .lambda();
             } else {
                 let mut acc = vec![0.0; self.n];
-                let held = contact::held_acceleration(&self.mech, active, q, q_dot, &mut acc);
+                let held = contact::held_acceleration(&self.mech, active, t, q, q_dot, &mut acc);
                 let (contacts, hold) = held.map_err(|err| self.dynamics_error(err, t, y))?;
                 for (&index, l) in contacts.indices.iter().zip(hold.lambda) {
                     self.lambda_buf[index] = l;
                 }
             }
         }
+        let work = self.work_at(t)?;
         let sample = Sample {
             t,
             mode,
@@ -165,7 +169,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             q_dot,
             h: &self.h_buf,
             lambda: &self.lambda_buf,
-            energy: energy(model, q, q_dot),
+            energy: energy(model, t, q, q_dot),
+            work,
         };
         self.observer.sample(&sample);
         Ok(())

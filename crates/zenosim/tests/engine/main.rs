@@ -5,6 +5,7 @@ mod ball_on_sine;
 mod bouncing_ball;
 mod conservation;
 mod errors;
+mod forces_and_time;
 mod liftoff;
 mod multiple_constraints;
 mod pendulum_chain;

@@ -1,0 +1,153 @@
+//! The energy balance along a run (docs/forces-and-time.md): the works of the forces, of `L`'s
+//! time dependence and of surfaces that move, integrated between events on each step's dense
+//! output, and the work and loss of every impact from its impulses.
+
+use super::{interpolate, Runner};
+use crate::contact;
+use crate::derivatives::{energy, guard_along, powers};
+use crate::error::Error;
+use crate::execution::{ActiveSet, EventKind, Work};
+use crate::mechanics::DynamicsError;
+use crate::model::HybridLagrangian;
+use crate::observer::Observer;
+
+/// The five Gauss–Legendre nodes on `[0, 1]` and their weights, exact for polynomials of degree
+/// 9 (above the degree of DOP853's dense output, 7), from their closed forms on `[−1, 1]`:
+/// `0` and `±⅓√(5 ∓ 2√(10/7))`, weights `128/225` and `(322 ± 13√70)/900`.
+fn gauss() -> [(f64, f64); 5] {
+    let inner = (5.0 - 2.0 * (10.0f64 / 7.0).sqrt()).sqrt() / 3.0;
+    let outer = (5.0 + 2.0 * (10.0f64 / 7.0).sqrt()).sqrt() / 3.0;
+    let w_inner = (322.0 + 13.0 * 70.0f64.sqrt()) / 900.0;
+    let w_outer = (322.0 - 13.0 * 70.0f64.sqrt()) / 900.0;
+    // x ∈ [−1, 1] to [0, 1]: (1 + x)/2, weights halved.
+    [
+        (0.5 * (1.0 - outer), 0.5 * w_outer),
+        (0.5 * (1.0 - inner), 0.5 * w_inner),
+        (0.5, 0.5 * 128.0 / 225.0),
+        (0.5 * (1.0 + inner), 0.5 * w_inner),
+        (0.5 * (1.0 + outer), 0.5 * w_outer),
+    ]
+}
+
+impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
+    /// The energy balance at `t`, within the last step (from the committed balance at
+    /// `work_t`, not committing it): for a sample.
+    pub(super) fn work_at(&mut self, t: f64) -> Result<Work, Error> {
+        let mut work = self.work;
+        if self.sim.model.is_autonomous() || t == self.work_t {
+            return Ok(work);
+        }
+        let [forces, drive, constraints] = self.integrate_power(self.work_t, t)?;
+        work.forces += forces;
+        work.drive += drive;
+        work.constraints += constraints;
+        Ok(work)
+    }
+
+    /// Commits the energy balance up to `t` (inside the last step, or at its start).
+    pub(super) fn advance_work(&mut self, t: f64) -> Result<(), Error> {
+        self.work = self.work_at(t)?;
+        self.work_t = t;
+        Ok(())
+    }
+
+    /// `∫ (Q·q̇, −∂ₜL, −Σλᵢ Aᵢq̇) dt` from `t0` to `t1` on the last step's dense output, in the
+    /// current mode; zero where the last step does not cover both (a restart at the same time).
+    fn integrate_power(&mut self, t0: f64, t1: f64) -> Result<[f64; 3], Error> {
+        let (start, end) = (self.stepper.t_previous(), self.stepper.t());
+        let covered = start < end && start <= t0.min(t1) && t0.max(t1) <= end;
+        if !covered {
+            debug_assert!(
+                t0 == t1,
+                "the energy balance from {t0} to {t1} outside the last step [{start}, {end}]"
+            );
+            return Ok([0.0; 3]);
+        }
+        self.dense()?;
+        let mut y = vec![0.0; 2 * self.n];
+        let mut sum = [0.0; 3];
+        let h = t1 - t0;
+        for (node, weight) in gauss() {
+            let t = t0 + node * h;
+            interpolate(&self.stepper, self.cubic, t, &mut y);
+            let power = self
+                .power(t, &y)
+                .map_err(|err| self.dynamics_error(err, t, &y))?;
+            for (s, p) in sum.iter_mut().zip(power) {
+                *s += weight * h * p;
+            }
+        }
+        Ok(sum)
+    }
+
+    /// The powers `(Q·q̇, −∂ₜL, −Σλᵢ Aᵢq̇)` at `(t, y)` in the current mode.
+    fn power(&mut self, t: f64, y: &[f64]) -> Result<[f64; 3], DynamicsError> {
+        let (q, q_dot) = y.split_at(self.n);
+        let (forces, drive) = powers(self.sim.model, t, q, q_dot);
+        let held = self.held();
+        let constraints = if let Some(index) = held.only() {
+            let mut w = vec![0.0; self.n];
+            let normal = self.mech.normal(index, t, q, q_dot, &mut w)?;
+            -normal.lambda() * (normal.a_q_dot - normal.h_t)
+        } else if held.is_empty() {
+            0.0
+        } else {
+            let mut acc = vec![0.0; self.n];
+            let (contacts, hold) =
+                contact::held_acceleration(&self.mech, held, t, q, q_dot, &mut acc)?;
+            hold.lambda
+                .iter()
+                .zip(&contacts.normals)
+                .map(|(l, normal)| -l * (normal.a_q_dot - normal.h_t))
+                .sum()
+        };
+        Ok([forces, drive, constraints])
+    }
+
+    /// The jump of an event at `t` from `before` to `after` in the balance: an impact's
+    /// impulses `Λᵢ` (on `contacts`) lose `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻)` and do the work `−Σ Λᵢ ∂ₜhᵢ`;
+    /// any other change of state (the switch at a Zeno point) loses what the energy measures.
+    pub(super) fn record_jump(
+        &mut self,
+        kind: EventKind,
+        (contacts, impulses): (ActiveSet, &[f64]),
+        t: f64,
+        before: &[f64],
+        after: &[f64],
+    ) -> Result<(), Error> {
+        let n = self.n;
+        let model = self.sim.model;
+        if kind == EventKind::Impact {
+            let mut w = vec![0.0; n];
+            for (index, &impulse) in contacts.iter().zip(impulses) {
+                let normal = self
+                    .mech
+                    .normal(index, t, &before[..n], &before[n..], &mut w)
+                    .map_err(|err| self.dynamics_error(err, t, before))?;
+                let (_, h_dot_after, _) = guard_along(model, index, t, &after[..n], &after[n..]);
+                self.work.impact_loss -= 0.5 * impulse * (h_dot_after + normal.a_q_dot);
+                self.work.constraints -= impulse * normal.h_t;
+            }
+        } else if before != after {
+            let e_before = energy(model, t, &before[..n], &before[n..]);
+            let e_after = energy(model, t, &after[..n], &after[n..]);
+            self.work.impact_loss += e_before - e_after;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::gauss;
+
+    #[test]
+    fn the_quadrature_is_exact_to_degree_nine_and_no_further() {
+        let integral = |k: i32| gauss().iter().map(|(x, w)| w * x.powi(k)).sum::<f64>();
+        for k in 0..=9 {
+            let exact = 1.0 / f64::from(k + 1);
+            assert!((integral(k) - exact).abs() <= 4.0 * f64::EPSILON, "degree {k}");
+        }
+        assert!((integral(10) - 1.0 / 11.0).abs() > 1e-8);
+    }
+}
