@@ -146,7 +146,10 @@ mod tests {
         let integral = |k: i32| gauss().iter().map(|(x, w)| w * x.powi(k)).sum::<f64>();
         for k in 0..=9 {
             let exact = 1.0 / f64::from(k + 1);
-            assert!((integral(k) - exact).abs() <= 4.0 * f64::EPSILON, "degree {k}");
+            assert!(
+                (integral(k) - exact).abs() <= 4.0 * f64::EPSILON,
+                "degree {k}"
+            );
         }
         assert!((integral(10) - 1.0 / 11.0).abs() > 1e-8);
     }
