@@ -1,4 +1,5 @@
-//! A hybrid Lagrangian whose `L`, `h` and optional `R∞` are compiled formulas.
+//! A hybrid Lagrangian whose `L`, `h`, forces, dissipation and optional `R∞` are compiled
+//! formulas of the time, the coordinates and the velocities.
 
 use zenosim::{Compiled, Constraint, HybridLagrangian, Scalar};
 
@@ -6,8 +7,11 @@ use crate::expr::Expression;
 
 /// A model read from a file: a [`HybridLagrangian`] whose functions are compiled formulas.
 ///
-/// The formulas read the coordinates from slots `0..n` and the velocities from slots `n..2n`;
-/// the parameters are folded into them as constants. Their derivatives are traced once into
+/// The formulas read the coordinates from slots `0..n`, the velocities from slots `n..2n` and
+/// the time `t` from slot `2n` ([`FileModel::time_slot`]); the parameters are folded into them
+/// as constants. A formula that does not read `t` is evaluated exactly as it was before time
+/// existed ([`Expression::eval_at`] runs it as [`Expression::eval_split`]), so an autonomous
+/// model gives the same numbers, bit for bit. Their derivatives are traced once into
 /// straight-line programs ([`Compiled`]), which zenosim runs instead of differentiating the
 /// formulas at every step. Build one with [`crate::parse_model`].
 #[derive(Clone, Debug)]
@@ -18,6 +22,14 @@ pub struct FileModel {
     pub(crate) h: Vec<Expression>,
     /// Per constraint, the user's `R∞`: (target slot, formula) pairs, evaluated together.
     pub(crate) resets: Vec<Vec<(usize, Expression)>>,
+    /// The generalized forces of `[forces]`: (coordinate index, formula), in the file's order,
+    /// one per coordinate at most.
+    pub(crate) forces: Vec<(usize, Expression)>,
+    /// The Rayleigh dissipation function `D(t, q, q̇)`, if any.
+    pub(crate) dissipation: Option<Expression>,
+    /// Whether no formula reads `t` and there is no force and no dissipation
+    /// ([`HybridLagrangian::is_autonomous`]), found once in [`FileModel::new`].
+    pub(crate) autonomous: bool,
     /// The derivatives traced into programs ([`Compiled`]), set once the model is checked.
     pub(crate) compiled: Option<Compiled>,
     /// Whether the compiled free motion is constant ([`HybridLagrangian::parabolic_flight`]): a
@@ -25,7 +37,51 @@ pub struct FileModel {
     pub(crate) parabolic: bool,
 }
 
+/// A `[[constraint]]` of a [`FileModel`]: the constraint, its `h`, and its `zeno_reset`
+/// (target slot, formula) pairs, empty when it has none.
+pub(crate) type ConstraintParts = (Constraint, Expression, Vec<(usize, Expression)>);
+
 impl FileModel {
+    /// The model of these formulas, not compiled yet (set [`FileModel::compiled`] and
+    /// [`FileModel::parabolic`] once it is checked). Whether it is autonomous is found here.
+    pub(crate) fn new(
+        coordinates: Vec<String>,
+        lagrangian: Expression,
+        constraints: Vec<ConstraintParts>,
+        forces: Vec<(usize, Expression)>,
+        dissipation: Option<Expression>,
+    ) -> Self {
+        let mut model = Self {
+            coordinates,
+            lagrangian,
+            constraints: Vec::with_capacity(constraints.len()),
+            h: Vec::with_capacity(constraints.len()),
+            resets: Vec::with_capacity(constraints.len()),
+            forces,
+            dissipation,
+            autonomous: true,
+            compiled: None,
+            parabolic: false,
+        };
+        for (constraint, h, reset) in constraints {
+            model.constraints.push(constraint);
+            model.h.push(h);
+            model.resets.push(reset);
+        }
+        let t = model.time_slot();
+        let timed = model.lagrangian.reads(t)
+            || model.h.iter().any(|h| h.reads(t))
+            || model.resets.iter().flatten().any(|(_, f)| f.reads(t));
+        model.autonomous = !timed && model.forces.is_empty() && model.dissipation.is_none();
+        model
+    }
+
+    /// The slot formulas read the time `t` from: `2n`, after the coordinates (`0..n`) and the
+    /// velocities (`n..2n`).
+    pub fn time_slot(&self) -> usize {
+        2 * self.coordinates.len()
+    }
+
     /// The Lagrangian's formula.
     pub fn lagrangian_formula(&self) -> &Expression {
         &self.lagrangian
@@ -34,6 +90,20 @@ impl FileModel {
     /// Constraint `index`'s formula `h`.
     pub fn constraint_formula(&self, index: usize) -> &Expression {
         &self.h[index]
+    }
+
+    /// The formula of the generalized force on coordinate `coordinate` (its index), if
+    /// `[forces]` gives one (a coordinate it does not list gets none: 0).
+    pub fn force_formula(&self, coordinate: usize) -> Option<&Expression> {
+        self.forces
+            .iter()
+            .find(|(slot, _)| *slot == coordinate)
+            .map(|(_, formula)| formula)
+    }
+
+    /// The formula of the Rayleigh dissipation function `D(t, q, q̇)`, if the file gives one.
+    pub fn dissipation_formula(&self) -> Option<&Expression> {
+        self.dissipation.as_ref()
     }
 
     /// The model without its compiled derivatives: zenosim then differentiates the formulas at
@@ -52,6 +122,18 @@ impl FileModel {
     pub fn has_zeno_reset(&self, index: usize) -> bool {
         !self.resets[index].is_empty()
     }
+
+    /// Whether the free motion's forces are what the traced free motion shows: no `t` in `L`,
+    /// no dissipation, and every force a constant. Only then can a constant traced free motion
+    /// be a parabola ([`HybridLagrangian::parabolic_flight`]).
+    pub(crate) fn forces_are_constant(&self) -> bool {
+        !self.lagrangian.reads(self.time_slot())
+            && self.dissipation.is_none()
+            && self
+                .forces
+                .iter()
+                .all(|(_, f)| f.constant_value().is_some())
+    }
 }
 
 impl HybridLagrangian for FileModel {
@@ -59,18 +141,51 @@ impl HybridLagrangian for FileModel {
         self.coordinates.len()
     }
 
+    /// `L` at `t = 0` (the same at every `t` for a Lagrangian without `t`).
     #[inline]
     fn lagrangian<D: Scalar>(&self, q: &[D], q_dot: &[D]) -> D {
-        self.lagrangian.eval_split(q, q_dot)
+        self.lagrangian.eval_at(q, q_dot, D::from(0.0))
+    }
+
+    #[inline]
+    fn lagrangian_at<D: Scalar>(&self, t: D, q: &[D], q_dot: &[D]) -> D {
+        self.lagrangian.eval_at(q, q_dot, t)
     }
 
     fn constraints(&self) -> &[Constraint] {
         &self.constraints
     }
 
+    /// `h` at `t = 0` (the same at every `t` for a constraint without `t`).
     #[inline]
     fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D {
-        self.h[index].eval(q)
+        self.h[index].eval_at(q, &[], D::from(0.0))
+    }
+
+    /// `h` reads no velocity: with `q` alone before it, its time slot `2n` is past the end.
+    #[inline]
+    fn constraint_at<D: Scalar>(&self, index: usize, t: D, q: &[D]) -> D {
+        self.h[index].eval_at(q, &[], t)
+    }
+
+    /// Adds each formula of `[forces]` to its coordinate's entry.
+    #[inline]
+    fn generalized_force<D: Scalar>(&self, t: D, q: &[D], q_dot: &[D], force: &mut [D]) {
+        for (slot, formula) in &self.forces {
+            force[*slot] += formula.eval_at(q, q_dot, t);
+        }
+    }
+
+    #[inline]
+    fn dissipation<D: Scalar>(&self, t: D, q: &[D], q_dot: &[D]) -> D {
+        match &self.dissipation {
+            Some(formula) => formula.eval_at(q, q_dot, t),
+            None => D::from(0.0),
+        }
+    }
+
+    fn is_autonomous(&self) -> bool {
+        self.autonomous
     }
 
     fn compiled(&self) -> Option<&Compiled> {
@@ -85,16 +200,21 @@ impl HybridLagrangian for FileModel {
         self.coordinates.clone()
     }
 
-    /// The file's `zeno_reset`: every formula is evaluated at the state before the map, then
-    /// all are assigned; names it does not give keep their values.
+    /// The file's `zeno_reset` at `t = 0`.
     fn completion_map(&self, index: usize, q: &mut [f64], q_dot: &mut [f64]) -> bool {
+        self.completion_map_at(index, 0.0, q, q_dot)
+    }
+
+    /// The file's `zeno_reset` at the time `t`: every formula is evaluated at the state before
+    /// the map, then all are assigned; names it does not give keep their values.
+    fn completion_map_at(&self, index: usize, t: f64, q: &mut [f64], q_dot: &mut [f64]) -> bool {
         let resets = &self.resets[index];
         if resets.is_empty() {
             return false;
         }
         let values: Vec<(usize, f64)> = resets
             .iter()
-            .map(|(slot, formula)| (*slot, formula.eval_split(&*q, &*q_dot)))
+            .map(|(slot, formula)| (*slot, formula.eval_at(&*q, &*q_dot, t)))
             .collect();
         let n = q.len();
         for (slot, value) in values {

@@ -16,16 +16,21 @@ use crate::expr::{is_reserved, ExprError, Expression, Limits, Scope};
 use crate::file_model::FileModel;
 
 /// The keys a model file may have at its top level.
-const TOP_KEYS: [&str; 8] = [
+const TOP_KEYS: [&str; 10] = [
     "name",
     "description",
     "coordinates",
     "lagrangian",
     "parameters",
     "constraint",
+    "forces",
+    "dissipation",
     "initial",
     "simulation",
 ];
+
+/// The formulas where the time `t` may appear, for messages.
+const TIME_USES: &str = "lagrangian, each constraint's h and zeno_reset, [forces] and dissipation";
 
 /// The keys of a `[[constraint]]`.
 const CONSTRAINT_KEYS: [&str; 4] = ["name", "h", "restitution", "zeno_reset"];
@@ -177,7 +182,9 @@ impl std::fmt::Display for Override {
 ///
 /// Everything is checked before the model is returned: the TOML, every key and name, every
 /// formula, the parameters (no cycles, finite values), the restitutions (in `[0, 1]`), the
-/// settings, and the initial state (admissible, `h ≥ 0`, with a positive definite mass matrix).
+/// forces (on coordinates) and the dissipation function (of the velocities), the settings, and
+/// the initial state at `t = 0` (admissible, `h ≥ 0`, with a positive definite mass matrix and
+/// finite forces).
 pub fn parse_model(
     file: &str,
     source: &str,
@@ -262,9 +269,9 @@ enum Reads {
     ParameterSlots,
     /// Parameters only, as constants.
     Constants,
-    /// Coordinates (slots `0..n`) and parameters.
+    /// Coordinates (slots `0..n`), the time `t` (slot `2n`) and parameters.
     Coordinates,
-    /// Coordinates, velocities (slots `n..2n`) and parameters.
+    /// Coordinates, velocities (slots `n..2n`), the time `t` (slot `2n`) and parameters.
     State,
 }
 
@@ -276,19 +283,37 @@ struct Names<'a> {
     reads: Reads,
 }
 
+impl Names<'_> {
+    /// The slot of the time `t`: `2n`, after the coordinates and the velocities (the
+    /// [`FileModel::time_slot`]).
+    fn time_slot(&self) -> usize {
+        2 * self.coordinates.len()
+    }
+
+    /// The slot of a coordinate (`0..n`) or a velocity (`n..2n`), whatever the formula reads.
+    fn state_slot(&self, name: &str) -> Option<usize> {
+        let n = self.coordinates.len();
+        self.coordinates.iter().position(|c| c == name).or_else(|| {
+            self.velocities
+                .iter()
+                .position(|v| v == name)
+                .map(|i| n + i)
+        })
+    }
+}
+
 impl Scope for Names<'_> {
     fn resolve(&self, name: &str) -> Option<usize> {
-        let n = self.coordinates.len();
+        let time = || (name == "t").then(|| self.time_slot());
         match self.reads {
             Reads::ParameterSlots => self.parameters.iter().position(|(p, _)| p == name),
             Reads::Constants => None,
-            Reads::Coordinates => self.coordinates.iter().position(|c| c == name),
-            Reads::State => self.coordinates.iter().position(|c| c == name).or_else(|| {
-                self.velocities
-                    .iter()
-                    .position(|v| v == name)
-                    .map(|i| n + i)
-            }),
+            Reads::Coordinates => self
+                .coordinates
+                .iter()
+                .position(|c| c == name)
+                .or_else(time),
+            Reads::State => self.state_slot(name).or_else(time),
         }
     }
 
@@ -463,6 +488,9 @@ impl<'s> Cx<'s> {
             }
         }
 
+        let forces = self.forces(root, &names(Reads::State))?;
+        let dissipation = self.dissipation(root, &names(Reads::State))?;
+
         let initial = self.initial(
             root,
             &coordinates,
@@ -472,25 +500,17 @@ impl<'s> Cx<'s> {
         )?;
         let settings = self.settings(root, &names(Reads::Constants))?;
 
-        let mut model = FileModel {
-            coordinates,
-            lagrangian,
-            constraints: Vec::new(),
-            h: Vec::new(),
-            resets: Vec::new(),
-            compiled: None,
-            parabolic: false,
-        };
-        for c in constraints {
-            model
-                .constraints
-                .push(Constraint::new(c.name, c.restitution));
-            model.h.push(c.h);
-            model.resets.push(c.reset);
-        }
+        let constraints = constraints
+            .into_iter()
+            .map(|c| (Constraint::new(c.name, c.restitution), c.h, c.reset))
+            .collect();
+        let mut model = FileModel::new(coordinates, lagrangian, constraints, forces, dissipation);
         self.check_initial_state(root, &model, &initial)?;
+        self.check_initial_forces(root, &model, &initial)?;
         let compiled = Compiled::trace(&model);
-        model.parabolic = compiled.constant_free_motion();
+        // A constant traced free motion is a parabola only where the forces it leaves out are
+        // constant too.
+        model.parabolic = compiled.constant_free_motion() && model.forces_are_constant();
         model.compiled = Some(compiled);
 
         Ok(ModelFile {
@@ -724,14 +744,6 @@ impl<'s> Cx<'s> {
             let name = self.string(entry, &key)?;
             let offset = entry.span().start;
             self.check_name(name, offset, &key, "a coordinate")?;
-            if name == "t" {
-                return Err(self.at(
-                    offset,
-                    &key,
-                    "`t` is the time and cannot name a coordinate",
-                    "choose another name",
-                ));
-            }
             if name == "mode" || name == "energy" {
                 return Err(self.at(
                     offset,
@@ -764,7 +776,8 @@ impl<'s> Cx<'s> {
         Ok(names)
     }
 
-    /// Checks that `name` can name something: a plain identifier that is not a built-in.
+    /// Checks that `name` can name something: a plain identifier that is neither a built-in
+    /// nor the time `t`.
     fn check_name(
         &self,
         name: &str,
@@ -793,6 +806,14 @@ impl<'s> Cx<'s> {
                 "choose another name",
             ));
         }
+        if name == "t" {
+            return Err(self.at(
+                offset,
+                key,
+                format!("`t` is the time and cannot name {what}"),
+                format!("choose another name: `t` is the time in {TIME_USES}"),
+            ));
+        }
         Ok(())
     }
 
@@ -813,11 +834,13 @@ impl<'s> Cx<'s> {
                 let name = key.get_ref().as_ref();
                 let path = format!("parameters.{name}");
                 self.check_name(name, key.span().start, &path, "a parameter")?;
-                if name == "t" || coordinates.iter().chain(velocities).any(|c| c == name) {
+                if coordinates.iter().chain(velocities).any(|c| c == name) {
                     return Err(self.at(
                         key.span().start,
                         &path,
-                        format!("`{name}` is defined twice: it is already a coordinate, a velocity or the time"),
+                        format!(
+                            "`{name}` is defined twice: it is already a coordinate, a velocity or the time"
+                        ),
                         "give the parameter another name",
                     ));
                 }
@@ -1027,13 +1050,18 @@ impl<'s> Cx<'s> {
                 )
             })?;
             let h_formula = self.formula(h_item, &h_key)?;
-            let h = self.compile(&h_formula, &names(Reads::Coordinates), &what)?;
-            if h.slots().is_empty() {
+            let h_names = names(Reads::Coordinates);
+            let h = self.compile(&h_formula, &h_names, &what)?;
+            if !h
+                .slots()
+                .iter()
+                .any(|&slot| slot < h_names.coordinates.len())
+            {
                 return Err(self.formula_error(
                     &h_formula,
                     None,
                     format!("{what} does not depend on any coordinate"),
-                    "a unilateral constraint h(q) >= 0 must depend on the coordinates, e.g. h = \"y\" for a floor at y = 0".to_string(),
+                    "a unilateral constraint h(t, q) >= 0 must depend on the coordinates, e.g. h = \"y\" for a floor at y = 0, or h = \"y - a*sin(w*t)\" for a floor that moves".to_string(),
                 ));
             }
 
@@ -1086,7 +1114,7 @@ impl<'s> Cx<'s> {
         for (target, value) in entries {
             let target_name = target.get_ref().as_ref();
             let path = join(key, target_name);
-            let Some(slot) = state.resolve(target_name) else {
+            let Some(slot) = state.state_slot(target_name) else {
                 return Err(self.at(
                     target.span().start,
                     &path,
@@ -1105,6 +1133,108 @@ impl<'s> Cx<'s> {
         Ok(reset)
     }
 
+    /// `[forces]`: the generalized force on each coordinate it names, a formula of the time,
+    /// the coordinates, the velocities and the parameters; (coordinate index, formula) in the
+    /// file's order.
+    fn forces(
+        &self,
+        root: &Table<'s>,
+        state: &Names<'_>,
+    ) -> Result<Vec<(usize, Expression)>, ModelError> {
+        let Some(item) = root.get("forces") else {
+            return Ok(Vec::new());
+        };
+        let example = state
+            .coordinates
+            .first()
+            .map_or_else(String::new, |c| format!("{c} = \"-c*{c}_dot\""));
+        let table = self.table(item, "forces", &format!("[forces] with lines {example}"))?;
+        let mut entries: Vec<_> = table.iter().collect();
+        entries.sort_by_key(|(k, _)| k.span().start);
+        let mut forces = Vec::with_capacity(entries.len());
+        for (key, value) in entries {
+            let name = key.get_ref().as_ref();
+            let path = join("forces", name);
+            let Some(index) = state.coordinates.iter().position(|c| c == name) else {
+                return Err(self.not_a_coordinate_force(key.span().start, &path, name, state));
+            };
+            let formula = self.formula(value, &path)?;
+            let what = format!("the force on `{name}`");
+            forces.push((index, self.compile(&formula, state, &what)?));
+        }
+        Ok(forces)
+    }
+
+    /// The error of a `[forces]` key `name` (at `offset`) that is not a coordinate.
+    fn not_a_coordinate_force(
+        &self,
+        offset: usize,
+        path: &str,
+        name: &str,
+        state: &Names<'_>,
+    ) -> ModelError {
+        let coordinates = list(state.coordinates);
+        let rule = format!(
+            "[forces] gives the generalized force on a coordinate ({coordinates}), as a formula \
+             of t, the coordinates, the velocities and the parameters; the coordinates not \
+             listed get 0"
+        );
+        if let Some(coordinate) = name
+            .strip_suffix("_dot")
+            .filter(|c| state.coordinates.iter().any(|q| q == c))
+        {
+            return self.at(
+                offset,
+                path,
+                format!("`{name}` is a velocity, not a coordinate"),
+                format!("write the force on `{coordinate}` as {coordinate} = \"…\" (it may depend on {name}); {rule}"),
+            );
+        }
+        let what = if name == "t" {
+            "`t` is the time, not a coordinate".to_string()
+        } else if state.parameters.iter().any(|(p, _)| p == name) {
+            format!("`{name}` is a parameter, not a coordinate")
+        } else {
+            format!("`{name}` is not a coordinate")
+        };
+        let hint = did_you_mean(name, state.coordinates.iter().map(String::as_str));
+        self.at(offset, path, what, format!("{hint}{rule}"))
+    }
+
+    /// `dissipation`: a Rayleigh dissipation function `D(t, q, q̇)`, which must depend on a
+    /// velocity (its force `−∂D/∂q̇` is zero otherwise).
+    fn dissipation(
+        &self,
+        root: &Table<'s>,
+        state: &Names<'_>,
+    ) -> Result<Option<Expression>, ModelError> {
+        let Some(item) = root.get("dissipation") else {
+            return Ok(None);
+        };
+        let formula = self.formula(item, "dissipation")?;
+        let expression = self.compile(&formula, state, "the dissipation function")?;
+        let n = state.coordinates.len();
+        if !expression
+            .slots()
+            .iter()
+            .any(|slot| (n..2 * n).contains(slot))
+        {
+            let example = state.velocities.first().map_or_else(String::new, |v| {
+                format!(" (dissipation = \"0.5*c*{v}^2\" is a damper c)")
+            });
+            return Err(self.formula_error(
+                &formula,
+                None,
+                "the dissipation function does not depend on any velocity: its force −∂D/∂q̇ would be zero".to_string(),
+                format!(
+                    "a Rayleigh dissipation function D(t, q, q_dot) is a formula of the velocities {}{example}; give a force that does not depend on them under [forces] instead",
+                    list(state.velocities)
+                ),
+            ));
+        }
+        Ok(Some(expression))
+    }
+
     fn initial(
         &self,
         root: &Table<'s>,
@@ -1120,13 +1250,21 @@ impl<'s> Cx<'s> {
             reads: Reads::State,
             ..*constants
         };
-        let slot = |name: &str| state.resolve(name);
+        let slot = |name: &str| state.state_slot(name);
         if let Some(item) = root.get("initial") {
             let table = self.table(item, "initial", "[initial] with lines x = 1.0, x_dot = 0.5")?;
             for (key, value) in table {
                 let name = key.get_ref().as_ref();
                 let path = format!("initial.{name}");
                 let Some(index) = slot(name) else {
+                    if name == "t" {
+                        return Err(self.at(
+                            key.span().start,
+                            &path,
+                            "`t` is the time, not a coordinate or a velocity",
+                            "[initial] gives the state at t = 0, where every run starts; it sets coordinates and velocities",
+                        ));
+                    }
                     if constants.parameters.iter().any(|(p, _)| p == name) {
                         return Err(self.at(
                             key.span().start,
@@ -1414,6 +1552,57 @@ impl<'s> Cx<'s> {
         }
         Ok(())
     }
+
+    /// The forces and the dissipation function at the initial state, at `t = 0`: finite.
+    fn check_initial_forces(
+        &self,
+        root: &Table<'s>,
+        model: &FileModel,
+        initial: &State,
+    ) -> Result<(), ModelError> {
+        let (q, q_dot) = (initial.q.as_slice(), initial.q_dot.as_slice());
+        let help = |value: f64| {
+            format!(
+                "{} at the initial state (t = 0), or start elsewhere",
+                not_finite_help(value)
+            )
+        };
+        for (index, formula) in &model.forces {
+            let value: f64 = formula.eval_at(q, q_dot, 0.0);
+            if !value.is_finite() {
+                let name = &model.coordinates[*index];
+                let at = root
+                    .get("forces")
+                    .and_then(|forces| forces.get_ref().as_table()?.get(name.as_str()))
+                    .map_or(0, |item| item.span().start);
+                return Err(self.at(
+                    at,
+                    &join("forces", name),
+                    format!(
+                        "the force on `{name}` is {} at the initial state",
+                        Readable(value)
+                    ),
+                    help(value),
+                ));
+            }
+        }
+        if let Some(formula) = &model.dissipation {
+            let value: f64 = formula.eval_at(q, q_dot, 0.0);
+            if !value.is_finite() {
+                let at = root.get("dissipation").map_or(0, |item| item.span().start);
+                return Err(self.at(
+                    at,
+                    "dissipation",
+                    format!(
+                        "the dissipation function is {} at the initial state",
+                        Readable(value)
+                    ),
+                    help(value),
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// A `[[constraint]]`, compiled.
@@ -1473,12 +1662,13 @@ fn describe(error: &ExprError, names: &Names<'_>, what: &str) -> (String, String
     };
     let is = |list: &[String]| list.iter().any(|c| c == name);
     let parameter = names.parameters.iter().any(|(p, _)| p == name);
-    let (message, help) = if name == "t" {
+    let (message, help) = if name == "t" && names.reads.rank() < Reads::Coordinates.rank() {
         (
             format!("{what} uses the time `t`"),
-            "zenosim simulates autonomous hybrid Lagrangians (Ames et al., Definition 1): L and h \
-             depend on q and q_dot only; remove t"
-                .to_string(),
+            format!(
+                "this value is a constant, fixed before the run starts (at t = 0): use numbers \
+                 and parameters only; the time `t` may appear in {TIME_USES}"
+            ),
         )
     } else if is(names.coordinates) && names.reads.rank() < Reads::Coordinates.rank() {
         (

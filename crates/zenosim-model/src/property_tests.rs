@@ -264,15 +264,17 @@ proptest! {
 fn tree_model(t: &str, compile: bool) -> FileModel {
     const STATE: [&str; 6] = ["x", "y", "z", "x_dot", "y_dot", "z_dot"];
     let lagrangian = format!("(x_dot^2 + y_dot*z_dot)*({t}) + ({t})");
-    let mut model = FileModel {
-        coordinates: NAMES.iter().map(|n| n.to_string()).collect(),
-        lagrangian: Expression::parse(&lagrangian, &STATE).unwrap(),
-        constraints: vec![zenosim::Constraint::new("c", 0.5)],
-        h: vec![Expression::parse(t, &NAMES).unwrap()],
-        resets: vec![Vec::new()],
-        compiled: None,
-        parabolic: false,
-    };
+    let mut model = FileModel::new(
+        NAMES.iter().map(|n| n.to_string()).collect(),
+        Expression::parse(&lagrangian, &STATE).unwrap(),
+        vec![(
+            zenosim::Constraint::new("c", 0.5),
+            Expression::parse(t, &NAMES).unwrap(),
+            Vec::new(),
+        )],
+        Vec::new(),
+        None,
+    );
     if compile {
         model.compiled = Some(zenosim::Compiled::trace(&model));
     }

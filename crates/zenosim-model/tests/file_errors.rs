@@ -196,9 +196,18 @@ fn names_used_where_they_do_not_belong() {
     says(&e, "depends on the coordinates only");
     let e = error(&with("e = 0.5", "e = \"0.5 + x\""));
     says(&e, "parameter `e` uses the coordinate `x`");
-    let e = error(&with("- m*g*y\"", "- m*g*y*t\""));
-    says(&e, "the Lagrangian uses the time `t`");
-    says(&e, "autonomous");
+    // The time is a variable of the formulas of the motion, not of the constants.
+    let e = error(&with("e = 0.5", "e = \"0.5 + 0*t\""));
+    says(&e, "parameter `e` uses the time `t`");
+    says(&e, "fixed before the run starts");
+    at(&e, 8, 14, Some("parameters.e"));
+    let e = error(&with("y = 1.0", "y = \"1 + t\""));
+    says(&e, "the initial value of `y` uses the time `t`");
+    at(&e, 16, 10, Some("initial.y"));
+    let e = error(&with("restitution = \"e\"", "restitution = \"e*t\""));
+    says(&e, "uses the time `t`");
+    let e = error(&with("t_end = 2.0", "t_end = \"2*t\""));
+    says(&e, "uses the time `t`");
     let e = error(&with("y = 1.0", "y = \"y_dot\""));
     says(&e, "uses the velocity `y_dot`");
 }
@@ -570,4 +579,151 @@ fn toml_nested_past_the_readers_limit_points_at_the_deepest_line() {
     says(&e, "invalid TOML");
     says(&e, "most deeply nested");
     assert_eq!(e.position(), Some((6, 1)), "{e}");
+}
+
+/// `GOOD` with a `[forces]` table of `lines` at its end, from line 23 on.
+fn with_forces(lines: &str) -> String {
+    format!("{GOOD}\n[forces]\n{lines}\n")
+}
+
+/// `GOOD` with `dissipation = VALUE` on line 4 (a top-level key: before the first table).
+fn with_dissipation(value: &str) -> String {
+    with(
+        "\n[parameters]",
+        &format!("dissipation = {value}\n\n[parameters]"),
+    )
+}
+
+#[test]
+fn the_time_cannot_name_a_coordinate_or_a_parameter() {
+    let e = error(&with("[\"x\", \"y\"]", "[\"x\", \"t\"]"));
+    says(&e, "`t` is the time and cannot name a coordinate");
+    says(&e, "choose another name");
+    at(&e, 2, 21, Some("coordinates[1]"));
+    let e = error(&with("g = 9.81", "g = 9.81\nt = 2.0"));
+    says(&e, "`t` is the time and cannot name a parameter");
+    says(&e, "choose another name: `t` is the time in lagrangian");
+    at(&e, 8, 1, Some("parameters.t"));
+    // Nor is it part of the state to start from or to reset.
+    let e = error(&with("x_dot = 0.5", "x_dot = 0.5\nt = 1.0"));
+    says(&e, "`t` is the time, not a coordinate or a velocity");
+    says(&e, "[initial] gives the state at t = 0");
+    at(&e, 18, 1, Some("initial.t"));
+    let e = error(&with(
+        "restitution = \"e\"",
+        "restitution = \"e\"\nzeno_reset = { t = \"0\" }",
+    ));
+    says(&e, "`t` is not a coordinate or a velocity");
+    assert_eq!(e.key(), Some("constraint[1].zeno_reset.t"));
+    let e = parse_model("case.toml", GOOD, &["t=1".parse().unwrap()]).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("`t` is neither a parameter nor a coordinate or velocity"),
+        "{e}"
+    );
+}
+
+#[test]
+fn the_time_is_a_variable_of_the_motion() {
+    let file = load(&with_forces("x = \"sin(t)*x_dot\"")).unwrap();
+    assert!(!zenosim::HybridLagrangian::is_autonomous(&file.model));
+    let source = with("- m*g*y\"", "- m*g*y*(1 + 0.1*sin(t))\"").replace(
+        "h = \"y\"",
+        "h = \"y - 0.1*t\"\nzeno_reset = { y = \"0.1*t\" }",
+    );
+    assert!(!zenosim::HybridLagrangian::is_autonomous(
+        &load(&source).unwrap().model
+    ));
+    // The time alone is not a constraint.
+    let e = error(&with("h = \"y\"", "h = \"1 + t\""));
+    says(
+        &e,
+        "h of constraint `floor` does not depend on any coordinate",
+    );
+    assert_eq!(e.key(), Some("constraint[1].h"));
+}
+
+#[test]
+fn a_force_on_something_that_is_not_a_coordinate() {
+    let e = error(&with_forces("xx = \"-x_dot\""));
+    says(&e, "`xx` is not a coordinate");
+    says(
+        &e,
+        "did you mean `x`? [forces] gives the generalized force on a coordinate (`x`, `y`)",
+    );
+    says(&e, "the coordinates not listed get 0");
+    at(&e, 23, 1, Some("forces.xx"));
+    let e = error(&with_forces("y = \"-y\"\nx_dot = \"-x_dot\""));
+    says(&e, "`x_dot` is a velocity, not a coordinate");
+    says(&e, "write the force on `x` as x = ");
+    at(&e, 24, 1, Some("forces.x_dot"));
+    let e = error(&with_forces("m = 1"));
+    says(&e, "`m` is a parameter, not a coordinate");
+    at(&e, 23, 1, Some("forces.m"));
+    let e = error(&with_forces("t = 1"));
+    says(&e, "`t` is the time, not a coordinate");
+    // `forces` is a table.
+    let e = error(&with(
+        "\n[parameters]",
+        "forces = \"-x_dot\"\n\n[parameters]",
+    ));
+    says(&e, "expected a table, found a string");
+    says(&e, "[forces] with lines x = ");
+    at(&e, 4, 10, Some("forces"));
+    let e = error(&with_forces("x = true"));
+    says(
+        &e,
+        "expected a number or a formula in quotes, found a boolean",
+    );
+    at(&e, 23, 5, Some("forces.x"));
+}
+
+#[test]
+fn a_force_formula_with_a_syntax_error_points_at_the_column() {
+    let e = error(&with_forces("x = \"-m*x_dot +\""));
+    says(&e, "in the force on `x`: the expression ends after '+'");
+    // `x = "` is 5 characters: the formula's column 10 is the file's column 15.
+    at(&e, 23, 15, Some("forces.x"));
+    let e = error(&with_forces("x = \"sine(t)\""));
+    says(&e, "did you mean 'sin'?");
+    at(&e, 23, 6, Some("forces.x"));
+    let e = error(&with_forces("x = \"-c*x_dot\""));
+    says(&e, "unknown name `c` in the force on `x`");
+    at(&e, 23, 7, Some("forces.x"));
+    let e = error(&with_dissipation("\"0.5*m*x_dot^\""));
+    says(
+        &e,
+        "in the dissipation function: the expression ends after '^'",
+    );
+    at(&e, 4, 27, Some("dissipation"));
+}
+
+#[test]
+fn a_dissipation_function_without_velocity() {
+    let e = error(&with_dissipation("\"0.5*m*x^2 + t\""));
+    says(
+        &e,
+        "the dissipation function does not depend on any velocity: its force −∂D/∂q̇ would be zero",
+    );
+    says(&e, "a formula of the velocities `x_dot`, `y_dot`");
+    says(&e, "dissipation = \"0.5*c*x_dot^2\"");
+    says(&e, "under [forces]");
+    at(&e, 4, 15, Some("dissipation"));
+    let e = error(&with_dissipation("0"));
+    says(&e, "does not depend on any velocity");
+    at(&e, 4, 15, Some("dissipation"));
+    // With a velocity it loads.
+    let file = load(&with_dissipation("\"0.5*m*(1 + x^2)*x_dot^2\"")).unwrap();
+    assert!(file.model.dissipation_formula().is_some());
+}
+
+#[test]
+fn forces_that_are_not_finite_at_the_start() {
+    let e = error(&with_forces("y = \"1/t\""));
+    says(&e, "the force on `y` is inf at the initial state");
+    says(&e, "at the initial state (t = 0)");
+    at(&e, 23, 5, Some("forces.y"));
+    let e = error(&with_dissipation("\"sqrt(x_dot - 1)\""));
+    says(&e, "the dissipation function is NaN at the initial state");
+    at(&e, 4, 15, Some("dissipation"));
 }

@@ -611,8 +611,8 @@ fn table(keys: &[&str], value: BoxedStrategy<String>) -> BoxedStrategy<String> {
 }
 
 /// A random model-shaped TOML document: its coordinates, a Lagrangian with (usually) a kinetic
-/// term in each, parameters, constraints, initial values and settings, each part plausible or
-/// random, some missing, some extra.
+/// term in each, parameters, constraints, forces, a dissipation function, initial values and
+/// settings, each part plausible or random, some missing, some extra.
 fn toml_document() -> impl Strategy<Value = String> {
     let coordinates = (
         prop::sample::subsequence(COORDINATES, 1..=3),
@@ -657,6 +657,23 @@ fn toml_document() -> impl Strategy<Value = String> {
                 .prop_map(str::to_string),
             1 => model_value(),
         ];
+        // Forces on the coordinates, now and then on a velocity, the time or an unknown name.
+        let mut force_keys: Vec<&str> = coordinates.clone();
+        force_keys.extend(["x_dot", "t", "zz"]);
+        let owned_state: Vec<String> = state.iter().map(|s| s.to_string()).collect();
+        let force = prop_oneof![
+            6 => (prop::sample::select(owned_state), prop::sample::select(&["-{}", "0.1*sin(t)*{}", "2"][..]))
+                .prop_map(|(v, shape)| toml_string(&shape.replace("{}", &v))),
+            1 => formula().prop_map(|f| toml_string(&f)),
+            1 => model_value(),
+        ];
+        let forces = table(&force_keys, force.boxed());
+        let dissipation = prop_oneof![
+            6 => prop::sample::select(velocities.clone())
+                .prop_map(|v| toml_string(&format!("0.5*(1 + 0.1*t)*{v}^2"))),
+            2 => formula().prop_map(|f| toml_string(&f)),
+            1 => model_value(),
+        ];
         let constraint = (
             h,
             restitution,
@@ -678,6 +695,8 @@ fn toml_document() -> impl Strategy<Value = String> {
             prop::option::weighted(0.7, table(&state, model_value().boxed())),
             prop::option::weighted(0.5, simulation()),
             prop::option::weighted(0.1, (prop::sample::select(SOUP), toml_value())),
+            prop::option::weighted(0.2, forces),
+            prop::option::weighted(0.2, dissipation),
         )
             .prop_map(
                 |(
@@ -690,6 +709,8 @@ fn toml_document() -> impl Strategy<Value = String> {
                     initial,
                     simulation,
                     extra,
+                    forces,
+                    dissipation,
                 )| {
                     let mut text = String::new();
                     let mut line = |key: &str, value: Option<String>| {
@@ -700,6 +721,7 @@ fn toml_document() -> impl Strategy<Value = String> {
                     line("name", name);
                     line("coordinates", coordinates);
                     line("lagrangian", lagrangian);
+                    line("dissipation", dissipation);
                     if let Some((key, value)) = extra {
                         line(&toml_string(key), Some(value));
                     }
@@ -712,6 +734,7 @@ fn toml_document() -> impl Strategy<Value = String> {
                     for (i, body) in constraints.into_iter().enumerate() {
                         section("[[constraint]]", Some(format!("name = \"c{i}\"\n{body}")));
                     }
+                    section("[forces]", forces);
                     section("[initial]", initial);
                     section("[simulation]", simulation);
                     text

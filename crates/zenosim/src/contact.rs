@@ -124,6 +124,20 @@ impl Contacts {
         }
     }
 
+    /// The impulses `Λ` (pushing, `M Δq̇ = Σ Aᵢᵀ Λᵢ`) that took the normal velocities from
+    /// `h_dot_before` to those of this state: `W Λ = ḣ − ḣ_before` (least squares where `W` is
+    /// singular to rounding).
+    pub fn impulses_from(&self, h_dot_before: &[f64]) -> Result<Vec<f64>, DynamicsError> {
+        let (factor, _) = self.factor_or_regularized()?;
+        let change: Vec<f64> = self
+            .normals
+            .iter()
+            .zip(h_dot_before)
+            .map(|(normal, before)| normal.a_q_dot - before)
+            .collect();
+        Ok(factor.solve(&change))
+    }
+
     /// Whether `W` is positive definite (with its factor), or singular to rounding; an error
     /// where it is nearly singular, with a pivot between [`ROUNDING_PIVOT`] and
     /// [`DEPENDENT_PIVOT`] of its diagonal entry.

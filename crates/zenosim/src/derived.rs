@@ -21,6 +21,14 @@ pub struct Derived<'a, L> {
     t: f64,
 }
 
+impl<L> Clone for Derived<'_, L> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<L> Copy for Derived<'_, L> {}
+
 impl<'a, L: HybridLagrangian> Derived<'a, L> {
     /// The derived quantities of `model` (an error if its dimension is 0 or above
     /// [`MAX_DIMENSION`](crate::MAX_DIMENSION), or not the [`HybridLagrangian::DIMENSION`] its

@@ -15,7 +15,13 @@
 //! - with several constraints closed at once, the same on the set: impacts by the generalized
 //!   Newton law (an LCP over every closed constraint), resting contact by the acceleration LCP
 //!   that decides which constraints hold, and Zeno points where constraints meet
-//!   (docs/contact-laws.md in the repository states the laws, the signs and the choices).
+//!   (docs/contact-laws.md in the repository states the laws, the signs and the choices);
+//! - with time in `L` or `h`, generalized forces `Q(t, q, q̇)` or a Rayleigh dissipation function
+//!   `D` (the trait's `lagrangian_at`, `constraint_at`, `generalized_force`, `dissipation`):
+//!   `M q̈ = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t + Q − ∂D/∂q̇`, the laws acting on the normal
+//!   velocity `ḣ = A q̇ + ∂ₜh` of a surface that moves, and the energy balance
+//!   `E(t) − E(0) = W_forces + W_drive + W_constraints − ΔE_impacts` in [`Work`]
+//!   (docs/forces-and-time.md).
 //!
 //! Principal types:
 //! - [`HybridLagrangian`], [`Constraint`], [`Scalar`]: what a user writes;
@@ -27,7 +33,8 @@
 //! - [`integrator::Stepper`]: the Runge–Kutta pairs (DOP853, DOPRI5) with dense output;
 //! - [`events::first_crossing`]: event location on a step's dense output;
 //! - [`lcp`]: the small dense LCP solver (Lemke's method) of the contact laws;
-//! - [`models`]: the paper's examples, written in Rust.
+//! - [`models`]: the paper's examples, and models with forces and a moving surface with their
+//!   closed forms, written in Rust.
 
 mod compiled;
 mod contact;

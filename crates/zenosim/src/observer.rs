@@ -74,6 +74,37 @@ pub struct Trajectory {
     pub points: Vec<Point>,
 }
 
+impl Trajectory {
+    /// The worst residual of the energy balance over the samples,
+    /// `|E(t) − E(0) − work.balance()|` relative to the size of the energies and works
+    /// involved (docs/forces-and-time.md): of the order of the integration tolerance, at most;
+    /// 0 without samples.
+    pub fn balance_residual(&self) -> f64 {
+        let Some(first) = self.points.first() else {
+            return 0.0;
+        };
+        let e0 = first.energy;
+        self.points
+            .iter()
+            .map(|p| {
+                let w = &p.work;
+                let size = e0.abs()
+                    + p.energy.abs()
+                    + w.forces.abs()
+                    + w.drive.abs()
+                    + w.constraints.abs()
+                    + w.impact_loss.abs();
+                let residual = (p.energy - e0 - w.balance()).abs();
+                if residual == 0.0 {
+                    0.0
+                } else {
+                    residual / size
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+}
+
 impl Observer for Trajectory {
     fn sample(&mut self, s: &Sample<'_>) {
         self.points.push(Point {

@@ -188,21 +188,21 @@ pub(crate) enum Instr {
     },
 }
 
-/// Runs `code` with input slot `s` read from `first[s]`, or past its end from
-/// `second[s - first.len()]`, and `temps` for the temporaries; returns the accumulator.
+/// Runs `code` with input slot `s` read as `input(s)`, and `temps` for the temporaries; returns
+/// the accumulator.
+///
+/// `input` is inlined into every instruction that reads a slot: the evaluations
+/// ([`super::Expression::eval_split`], [`super::Expression::eval_at`]) each pass their own
+/// reader, and each gets its own copy of the loop.
 ///
 /// # Panics
 ///
-/// If an input slot is past the end of both slices, or `temps` is shorter than the program
+/// If `input` panics on a slot the program reads, or `temps` is shorter than the program
 /// needs (the builder sizes it).
 // Every arm spells out `acc = …`, the same shape for all; `acc += x` would read the same.
 #[allow(clippy::assign_op_pattern)]
 #[inline(always)]
-pub(crate) fn execute<D: Scalar>(code: &[Instr], first: &[D], second: &[D], temps: &mut [D]) -> D {
-    let input = |slot: usize| match first.get(slot) {
-        Some(&value) => value,
-        None => second[slot - first.len()],
-    };
+pub(crate) fn execute<D: Scalar>(code: &[Instr], input: impl Fn(usize) -> D, temps: &mut [D]) -> D {
     let mut acc = D::from(0.0);
     for instr in code {
         match *instr {

@@ -33,9 +33,10 @@
 //! without variables are folded into constants (`0.5*m*x` with `m = 2` becomes `1*x`; `0.5*2*9.81`
 //! becomes `9.81`, exactly as evaluated left to right; nothing is reassociated, so `x*0.5*2`
 //! keeps both multiplications). Constants are operands of the instructions (`x*c` scales a dual
-//! number), and a product feeding a sum is fused with it. [`Expression::eval`] and
-//! [`Expression::eval_split`] run the program over a small register file, with no recursion,
-//! generic over [`zenosim::Scalar`]:
+//! number), and a product feeding a sum is fused with it. [`Expression::eval`],
+//! [`Expression::eval_split`] and [`Expression::eval_at`] (which reads the time from the slots
+//! past the state's) run the program over a small register file, with no recursion, generic
+//! over [`zenosim::Scalar`]:
 //! - the value over `f64` is the real part of the value over any dual number, bit for bit
 //!   (where num-dual rounds a real part differently, as in `a/b`, `tan`, `tanh` and powers,
 //!   the real part is set to the `f64` value);

@@ -20,6 +20,9 @@ pub struct Expression {
     pub(super) temps: usize,
     names: Vec<String>,
     slots: Vec<usize>,
+    /// One past the highest slot read (0 when none is): kept beside the program, so that
+    /// [`Expression::eval_at`] tells whether it reads the time with one comparison.
+    extent: usize,
 }
 
 impl Expression {
@@ -31,12 +34,14 @@ impl Expression {
         names: Vec<String>,
         slots: Vec<usize>,
     ) -> Self {
+        let extent = slots.last().map_or(0, |&last| last + 1);
         Self {
             source: source.to_string(),
             code,
             temps,
             names,
             slots,
+            extent,
         }
     }
 
@@ -80,12 +85,56 @@ impl Expression {
     /// expression reads.
     #[inline]
     pub fn eval_split<D: Scalar>(&self, first: &[D], second: &[D]) -> D {
+        self.run(|slot: usize| match first.get(slot) {
+            Some(&value) => value,
+            None => second[slot - first.len()],
+        })
+    }
+
+    /// Evaluates the expression at the time `t`: slot `s` reads `first[s]` if
+    /// `s < first.len()`, `second[s - first.len()]` if that is within `second`, and `t` for
+    /// every slot past the end of both.
+    ///
+    /// Meant for formulas of the time: with the coordinates bound to slots `0..n`, the
+    /// velocities to `n..2n` and the time `t` to slot `2n`, `eval_at(q, q_dot, t)` evaluates
+    /// `L(t, q, q̇)`, and `eval_at(q, &[], t)` a formula `h(t, q)` of the coordinates and the
+    /// time (which reads no velocity, so that its slot `2n` lies past both slices).
+    ///
+    /// An expression that reads no slot past the two slices (one that does not depend on the
+    /// time) is evaluated exactly as [`eval_split`](Self::eval_split) evaluates it, through the
+    /// same code: the time costs it one comparison.
+    // Inlined whole, with the time's path out of line and cold: where the time is not read the
+    // caller runs `eval_split` as if it had called it, and autonomous formulas evaluate as fast
+    // as they did before the time existed.
+    #[inline(always)]
+    pub fn eval_at<D: Scalar>(&self, first: &[D], second: &[D], t: D) -> D {
+        if self.extent <= first.len() + second.len() {
+            return self.eval_split(first, second);
+        }
+        self.eval_timed(first, second, t)
+    }
+
+    /// [`eval_at`](Self::eval_at) for an expression that reads the time: its own copy of the
+    /// interpreter, whose slot reader falls back on `t` past both slices.
+    #[cold]
+    #[inline(never)]
+    fn eval_timed<D: Scalar>(&self, first: &[D], second: &[D], t: D) -> D {
+        self.run(|slot: usize| match first.get(slot) {
+            Some(&value) => value,
+            None => second.get(slot - first.len()).copied().unwrap_or(t),
+        })
+    }
+
+    /// Runs the program with slot `s` read as `input(s)`, on a register file on the stack
+    /// unless the expression nests unusually deep.
+    #[inline(always)]
+    fn run<D: Scalar>(&self, input: impl Fn(usize) -> D + Copy) -> D {
         let zero = D::from(0.0);
         match self.temps {
-            0 => execute(&self.code, first, second, &mut []),
-            1..=4 => execute(&self.code, first, second, &mut [zero; 4]),
-            5..=32 => execute(&self.code, first, second, &mut [zero; 32]),
-            _ => execute(&self.code, first, second, &mut vec![zero; self.temps]),
+            0 => execute(&self.code, input, &mut []),
+            1..=4 => execute(&self.code, input, &mut [zero; 4]),
+            5..=32 => execute(&self.code, input, &mut [zero; 32]),
+            _ => execute(&self.code, input, &mut vec![zero; self.temps]),
         }
     }
 

@@ -292,6 +292,29 @@ fn split_inputs_read_the_second_slice_past_the_first() {
 }
 
 #[test]
+fn the_time_is_read_from_the_slots_past_both_slices() {
+    // `z` plays the time: slot 2, past `x` and `y`.
+    let e = compile("x - 10*y + 100*z");
+    assert_eq!(e.eval_at(&[1.0], &[2.0], 3.0), 281.0);
+    // `h(t, q)`: the state's first slice alone, every slot past it is the time.
+    let h = compile("x + 10*z");
+    assert_eq!(h.eval_at(&[1.0], &[], 3.0), 31.0);
+    // A formula of the state alone ignores the time, and runs as `eval_split`.
+    let l = compile("x*y - x/y");
+    for (x, y) in [(1.5, 0.3), (-2.0, 7.0)] {
+        assert!(same_bits(
+            l.eval_at(&[x], &[y], 9.0),
+            l.eval_split(&[x], &[y])
+        ));
+    }
+    // Over dual numbers, the time carries its own derivative.
+    let t = Dual64::new(3.0, 1.0);
+    let got = compile("x*sin(2*z)").eval_at(&[Dual64::from(1.5)], &[Dual64::from(0.0)], t);
+    assert_eq!(got.re, 1.5 * (2.0 * 3.0f64).sin());
+    assert_eq!(got.eps, 1.5 * 2.0 * (2.0 * 3.0f64).cos());
+}
+
+#[test]
 #[should_panic]
 fn a_missing_input_panics() {
     compile("x + z").eval_split(&[1.0], &[2.0]);
@@ -768,5 +791,14 @@ proptest! {
         // Any split of the inputs gives the same number.
         let split = e.eval_split(&values[..1], &values[1..]);
         prop_assert!(same_bits(split, got));
+        // So does `z` read as the time, past both slices; and with every slot in the slices
+        // the time is not read.
+        let at = e.eval_at(&values[..1], &values[1..2], values[2]);
+        prop_assert!(same_bits(at, got));
+        prop_assert!(same_bits(e.eval_at(&values, &[], f64::NAN), got));
+        let h_at = e.eval_at(&hyper(values)[..2], &[], hyper(values)[2]);
+        for (a, b) in hyper_parts(h_at).into_iter().zip(hyper_parts(h)) {
+            prop_assert!(same_bits(a, b), "{} at {:?}: {:?} vs {:?}", source, values, h_at, h);
+        }
     }
 }

@@ -3,7 +3,7 @@
 //! output, and the work and loss of every impact from its impulses.
 
 use super::{interpolate, Runner};
-use crate::contact;
+use crate::contact::{self, Contacts};
 use crate::derivatives::{energy, guard_along, powers};
 use crate::error::Error;
 use crate::execution::{ActiveSet, EventKind, Work};
@@ -104,9 +104,34 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         Ok([forces, drive, constraints])
     }
 
+    /// The work `−Σ Λᵢ ∂ₜhᵢ` of the impulses that took the normal velocities of `contacts` from
+    /// those of `before` to those of `after`.
+    fn impulse_work(
+        &self,
+        contacts: ActiveSet,
+        t: f64,
+        before: &[f64],
+        after: &[f64],
+    ) -> Result<f64, DynamicsError> {
+        let n = self.n;
+        let c = Contacts::at(&self.mech, contacts, t, &after[..n], &after[n..]).map_err(|e| e.0)?;
+        let h_dot_before: Vec<f64> = c
+            .indices
+            .iter()
+            .map(|&i| guard_along(self.sim.model, i, t, &before[..n], &before[n..]).1)
+            .collect();
+        let impulses = c.impulses_from(&h_dot_before)?;
+        Ok(-impulses
+            .iter()
+            .zip(&c.normals)
+            .map(|(l, normal)| l * normal.h_t)
+            .sum::<f64>())
+    }
+
     /// The jump of an event at `t` from `before` to `after` in the balance: an impact's
     /// impulses `Λᵢ` (on `contacts`) lose `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻)` and do the work `−Σ Λᵢ ∂ₜhᵢ`;
-    /// any other change of state (the switch at a Zeno point) loses what the energy measures.
+    /// any other change of state (the switch at a Zeno point), and every jump of an autonomous
+    /// model (where the two agree to rounding), loses what the energy measures.
     pub(super) fn record_jump(
         &mut self,
         kind: EventKind,
@@ -117,7 +142,9 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     ) -> Result<(), Error> {
         let n = self.n;
         let model = self.sim.model;
-        if kind == EventKind::Impact {
+        // An autonomous model's impacts do no work: their loss is the energy's change, two
+        // evaluations instead of the impulses' normal velocities.
+        if kind == EventKind::Impact && !model.is_autonomous() {
             let mut w = vec![0.0; n];
             for (index, &impulse) in contacts.iter().zip(impulses) {
                 let normal = self
@@ -131,7 +158,16 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         } else if before != after {
             let e_before = energy(model, t, &before[..n], &before[n..]);
             let e_after = energy(model, t, &after[..n], &after[n..]);
-            self.work.impact_loss += e_before - e_after;
+            // On a surface that moves, the switch's plastic impulse does work as an impact's
+            // does (the ball brought to the table's velocity): that goes to the constraints.
+            let impulse_work = if model.is_autonomous() || contacts.is_empty() {
+                0.0
+            } else {
+                self.impulse_work(contacts, t, before, after)
+                    .map_err(|err| self.dynamics_error(err, t, after))?
+            };
+            self.work.constraints += impulse_work;
+            self.work.impact_loss += e_before - e_after + impulse_work;
         }
         Ok(())
     }
