@@ -294,19 +294,31 @@ fn models_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../models")
 }
 
+/// The shipped models with forces, dissipation or time (docs/forces-and-time.md).
+const NOT_AUTONOMOUS: [&str; 4] = [
+    "damped-oscillator.toml",
+    "dragged-ball.toml",
+    "pd-arm.toml",
+    "vibrating-table.toml",
+];
+
 #[test]
-fn every_shipped_model_is_autonomous_and_the_same_at_every_time() {
+fn every_other_shipped_model_is_autonomous_and_the_same_at_every_time() {
     let mut count = 0;
     for entry in std::fs::read_dir(models_dir()).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_none_or(|e| e != "toml") {
             continue;
         }
-        count += 1;
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         let source = std::fs::read_to_string(&path).unwrap();
         let file = parse_model(&name, &source, &[]).unwrap_or_else(|e| panic!("{e}"));
         let model = &file.model;
+        if NOT_AUTONOMOUS.contains(&name.as_str()) {
+            assert!(!model.is_autonomous(), "{name}");
+            continue;
+        }
+        count += 1;
         assert!(model.is_autonomous(), "{name}");
         assert!(model.dissipation_formula().is_none(), "{name}");
         let n = model.dimension();
