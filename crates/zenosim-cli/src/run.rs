@@ -15,8 +15,9 @@ use crate::cli::RunArgs;
 use crate::json_layout;
 use crate::output::{OutputDir, PartialFile};
 use crate::plot;
+use crate::plot::short;
 use crate::progress::Progress;
-use crate::summary::{status, Record, Summary, TrajectoryJson};
+use crate::summary::{status, EnergyBalanceJson, Record, Summary, TrajectoryJson};
 use crate::trajectory::{number, TrajectoryWriter};
 use crate::{
     print_error, print_report, Classify, Failure, EXIT_FAILED, EXIT_OK, EXIT_ZENO_STALLED,
@@ -66,6 +67,8 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     // The previous run's files stay as they are until this run's are complete.
     let out = OutputDir::prepare(&dir).output()?;
     let constraints = constraint_names(&file);
+    // A model with forces, time or moving surfaces: the energy balance's columns too.
+    let autonomous = file.model.is_autonomous();
 
     let (csv_partial, csv_file) = out.create(TRAJECTORY).output()?;
     let mut writer = TrajectoryWriter::new(
@@ -73,6 +76,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         &file.model.coordinate_names(),
         &file.velocity_names(),
         &constraints,
+        !autonomous,
         Progress::new(options.t_end),
     );
     let execution = simulation.run(&mut writer);
@@ -96,6 +100,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         },
     }
     .summary();
+    let balance = summary.energy_balance;
     let summary_finished = write_summary(&out, &summary)?;
 
     // Both files are complete. The previous run's summary and plots go, then the trajectory
@@ -115,7 +120,15 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     };
     let mut files = vec![(out.path(TRAJECTORY), Some(rows)), (summary_path, None)];
     files.extend(plots.iter().flatten().map(|path| (path.clone(), None)));
-    print_report(&report(&message, &file, &execution, &constraints, &files));
+    let balance = (!autonomous).then_some(&balance);
+    print_report(&report(
+        &message,
+        &file,
+        &execution,
+        &constraints,
+        balance,
+        &files,
+    ));
     let code = match &execution.outcome {
         Outcome::Finished => EXIT_OK,
         Outcome::ZenoStalled { .. } => EXIT_ZENO_STALLED,
@@ -245,12 +258,14 @@ fn failure(error: &Error) -> String {
     }
 }
 
-/// The report printed after a run.
+/// The report printed after a run, with the energy balance when given (a model that is not
+/// autonomous).
 fn report(
     message: &str,
     file: &ModelFile,
     run: &Execution,
     constraints: &[String],
+    balance: Option<&EnergyBalanceJson>,
     files: &[(PathBuf, Option<u64>)],
 ) -> String {
     let name = |index: usize| constraints.get(index).map_or("?", String::as_str);
@@ -270,6 +285,9 @@ fn report(
         plural(run.stats.steps as usize, "step"),
         run.stats.rejected_steps
     );
+    if let Some(balance) = balance {
+        let _ = writeln!(text, "  energy:  {}", energy_line(balance));
+    }
     let stalled = matches!(run.outcome, Outcome::ZenoStalled { .. });
     for (i, z) in run.zeno.iter().enumerate() {
         // With --zeno off the last Zeno point is where the run stopped, not a switch.
@@ -301,9 +319,56 @@ fn report(
     text
 }
 
+/// The energy balance in a line: `E` from start to end, the terms that are not 0, and the
+/// residual.
+fn energy_line(b: &EnergyBalanceJson) -> String {
+    let mut line = format!("E = {} → {}", short(b.energy_start), short(b.energy_end));
+    let terms = [
+        ("forces", b.work_forces),
+        ("drive", b.work_drive),
+        ("moving constraints", b.work_constraints),
+        ("impact loss", b.impact_loss),
+    ];
+    let mut sep = ": ";
+    for (name, value) in terms.iter().filter(|(_, value)| *value != 0.0) {
+        let _ = write!(line, "{sep}{name} {}", short(*value));
+        sep = ", ";
+    }
+    let _ = write!(line, "; residual {}", short(b.residual));
+    line
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_energy_line_names_the_terms_that_worked() {
+        let balance = EnergyBalanceJson {
+            energy_start: 9.81,
+            energy_end: 1.234567891,
+            work_forces: -3.5,
+            work_drive: 0.0,
+            work_constraints: 0.0,
+            impact_loss: 5.075432109,
+            residual: -2.5e-12,
+        };
+        assert_eq!(
+            energy_line(&balance),
+            "E = 9.81 → 1.23457: forces -3.5, impact loss 5.07543; residual -2.5e-12"
+        );
+        let table = EnergyBalanceJson {
+            work_forces: 0.0,
+            work_constraints: 0.25,
+            work_drive: 1.0,
+            ..balance
+        };
+        assert_eq!(
+            energy_line(&table),
+            "E = 9.81 → 1.23457: drive 1, moving constraints 0.25, impact loss 5.07543; \
+             residual -2.5e-12"
+        );
+    }
 
     #[test]
     fn default_directories_stay_inside_out() {

@@ -4,14 +4,14 @@
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use serde::Serialize as DeriveSerialize;
 use zenosim::{
-    ActiveSet, Completion, Derived, Event, Execution, HybridInterval, Method, Mode, Outcome,
-    SimulationOptions, State, ZenoPoint, ZenoStrategy,
+    ActiveSet, Completion, Derived, Event, Execution, HybridInterval, HybridLagrangian, Method,
+    Mode, Outcome, SimulationOptions, State, ZenoPoint, ZenoStrategy,
 };
 use zenosim_model::ModelFile;
 
 /// The version of `summary.json`'s layout, documented in docs/output.md. 2: events list
-/// their `contacts` and `impulses`, Zeno points their `constraints`.
-pub const SCHEMA_VERSION: u32 = 2;
+/// their `contacts` and `impulses`, Zeno points their `constraints`. 3: `energy_balance`.
+pub const SCHEMA_VERSION: u32 = 3;
 
 /// The whole summary.
 #[derive(DeriveSerialize)]
@@ -46,6 +46,8 @@ pub struct Summary<'a> {
     /// Where the run ended.
     #[serde(rename = "final")]
     pub final_: FinalJson<'a>,
+    /// The energy balance from the start to the end.
+    pub energy_balance: EnergyBalanceJson,
     /// The Zeno points reached.
     pub zeno: Lazy<'a, ZenoPoint, ZenoJson<'a>>,
     /// Every event.
@@ -205,6 +207,49 @@ pub struct FinalJson<'a> {
     pub energy: f64,
 }
 
+/// The energy balance of the run, `E(end) − E(0) = work_forces + work_drive + work_constraints
+/// − impact_loss` to the integration tolerance (docs/output.md, [`zenosim::Work`]).
+#[derive(Clone, Copy, Debug, DeriveSerialize)]
+pub struct EnergyBalanceJson {
+    /// `E(0)`, of the initial state.
+    pub energy_start: f64,
+    /// `E` of the final state, at the final time.
+    pub energy_end: f64,
+    /// `∫ Q·q̇ dt`: the generalized forces' work, the dissipation's included.
+    pub work_forces: f64,
+    /// `−∫ ∂L/∂t dt`: put in by the Lagrangian's explicit time dependence.
+    pub work_drive: f64,
+    /// The work of the constraints on surfaces that move.
+    pub work_constraints: f64,
+    /// The energy taken out by impacts and Zeno switches (≥ 0).
+    pub impact_loss: f64,
+    /// `energy_end − energy_start − (work_forces + work_drive + work_constraints −
+    /// impact_loss)`: 0 but for the integration error.
+    pub residual: f64,
+}
+
+impl EnergyBalanceJson {
+    /// The balance of `run` of `model` from `initial` (at `t = 0`, where every run starts).
+    /// The energies are `NaN` for a model of a dimension zenosim refuses (never simulated).
+    pub fn of<L: HybridLagrangian>(model: &L, initial: &State, run: &Execution) -> Self {
+        let energy = |t: f64, state: &State| {
+            Derived::new(model).map_or(f64::NAN, |d| d.at_time(t).energy(&state.q, &state.q_dot))
+        };
+        let (energy_start, energy_end) =
+            (energy(0.0, initial), energy(run.t_final, &run.final_state));
+        let work = &run.work;
+        Self {
+            energy_start,
+            energy_end,
+            work_forces: work.forces,
+            work_drive: work.drive,
+            work_constraints: work.constraints,
+            impact_loss: work.impact_loss,
+            residual: energy_end - energy_start - work.balance(),
+        }
+    }
+}
+
 /// A Zeno point.
 #[derive(DeriveSerialize)]
 pub struct ZenoJson<'a> {
@@ -288,7 +333,7 @@ impl<'a> Record<'a> {
         let name = move |index: usize| names.get(index).map_or("?", String::as_str);
         let run = self.run;
         let file = self.file;
-        use zenosim::HybridLagrangian as _;
+        let energy_balance = EnergyBalanceJson::of(&file.model, &file.initial, run);
         Summary {
             schema_version: SCHEMA_VERSION,
             model: &file.name,
@@ -322,11 +367,9 @@ impl<'a> Record<'a> {
                 active: active_of(run.final_mode, names),
                 q: &run.final_state.q,
                 q_dot: &run.final_state.q_dot,
-                // NaN only for a model of a dimension zenosim refuses (never simulated).
-                energy: Derived::new(&file.model).map_or(f64::NAN, |d| {
-                    d.energy(&run.final_state.q, &run.final_state.q_dot)
-                }),
+                energy: energy_balance.energy_end,
             },
+            energy_balance,
             zeno: Lazy::new(&run.zeno, move |z| ZenoJson {
                 constraint: name(z.constraint),
                 constraints: active_names(z.constraints, names),
@@ -399,6 +442,88 @@ mod tests {
             json,
             r#"{"t":null,"mode":"free","active":[],"q":[null,1.5],"q_dot":[],"energy":null}"#
         );
+    }
+
+    /// The size of the energies and works involved: the scale of the residual.
+    fn scale(b: &EnergyBalanceJson) -> f64 {
+        [
+            b.energy_start,
+            b.energy_end,
+            b.work_forces,
+            b.work_drive,
+            b.work_constraints,
+            b.impact_loss,
+        ]
+        .iter()
+        .map(|x| x.abs())
+        .fold(0.0, f64::max)
+    }
+
+    /// The balance of a run of `example`'s model, checked to close to `1e-8` of its size.
+    fn balance_of<L: HybridLagrangian>(
+        example: &zenosim::models::Example<L>,
+        t_end: f64,
+    ) -> EnergyBalanceJson {
+        let options = SimulationOptions {
+            t_end,
+            ..Default::default()
+        };
+        let run = zenosim::Simulation::new(&example.model, &example.q0, &example.q_dot0, options)
+            .unwrap()
+            .run(&mut ());
+        assert_eq!(run.outcome, Outcome::Finished);
+        let initial = State {
+            q: example.q0.clone(),
+            q_dot: example.q_dot0.clone(),
+        };
+        let balance = EnergyBalanceJson::of(&example.model, &initial, &run);
+        assert!(balance.impact_loss > 0.0, "{balance:?}");
+        assert!(
+            balance.residual.abs() <= 1e-8 * scale(&balance),
+            "{balance:?}"
+        );
+        balance
+    }
+
+    #[test]
+    fn the_energy_balance_closes() {
+        use zenosim::models::{BouncingBall, DraggedBall, VibratingTable};
+        // Dropped from 1 (E(0) = m g), at rest on the floor at the end (E = 0): the drag and
+        // the impacts took it all.
+        let dragged = balance_of(&DraggedBall::example(), 2.5);
+        assert_eq!(dragged.energy_start, 9.81);
+        assert!(dragged.energy_end.abs() < 1e-9, "{dragged:?}");
+        assert!(dragged.work_forces < 0.0, "{dragged:?}");
+        assert_eq!((dragged.work_drive, dragged.work_constraints), (0.0, 0.0));
+        // The table moves: its constraint works.
+        let table = balance_of(&VibratingTable::example(), 1.0);
+        assert!(table.work_constraints.abs() > 1e-6, "{table:?}");
+        // An autonomous model: only the impacts change the energy.
+        let ball = zenosim::models::Example {
+            model: BouncingBall::new(1.0, 9.81, 0.5),
+            q0: vec![1.0],
+            q_dot0: vec![0.0],
+            t_end: 2.0,
+        };
+        let ball = balance_of(&ball, 2.0);
+        assert_eq!(
+            (ball.work_forces, ball.work_drive, ball.work_constraints),
+            (0.0, 0.0, 0.0)
+        );
+        assert!((ball.impact_loss - 9.81).abs() < 1e-8, "{ball:?}");
+        // The keys docs/output.md lists, in its order.
+        let json = serde_json::to_string(&ball).unwrap();
+        let at = |key: &str| json.find(&format!("\"{key}\":")).expect(key);
+        let keys = [
+            "energy_start",
+            "energy_end",
+            "work_forces",
+            "work_drive",
+            "work_constraints",
+            "impact_loss",
+            "residual",
+        ];
+        assert!(keys.windows(2).all(|w| at(w[0]) < at(w[1])), "{json}");
     }
 
     #[test]

@@ -8,6 +8,35 @@ use zenosim::{Event, Mode, Observer, Sample};
 
 use crate::progress::Progress;
 
+/// The energy balance's columns, after `energy`, in a run of a model that is not autonomous:
+/// the terms of `E(t) − E(0) = work_forces + work_drive + work_constraints − impact_loss`
+/// from the start to the row's time ([`zenosim::Work`]).
+pub const WORK_COLUMNS: [&str; 4] = [
+    "work_forces",
+    "work_drive",
+    "work_constraints",
+    "impact_loss",
+];
+
+/// The header of `trajectory.csv`: `t,mode,<columns of (q, q̇)...>,h_<c>...,lambda_<c>...,energy`,
+/// then [`WORK_COLUMNS`] when `work`.
+pub fn header<'a>(
+    columns: impl IntoIterator<Item = &'a String>,
+    constraints: &[String],
+    work: bool,
+) -> Vec<String> {
+    let work_columns = if work { &WORK_COLUMNS[..] } else { &[] };
+    ["t", "mode"]
+        .into_iter()
+        .map(str::to_string)
+        .chain(columns.into_iter().cloned())
+        .chain(constraints.iter().map(|c| format!("h_{c}")))
+        .chain(constraints.iter().map(|c| format!("lambda_{c}")))
+        .chain(std::iter::once("energy".to_string()))
+        .chain(work_columns.iter().map(|c| c.to_string()))
+        .collect()
+}
+
 /// The observer of a run: writes every sample as a CSV row and moves the progress bar.
 ///
 /// [`Observer::sample`] cannot fail, so the first write error is kept (and nothing more is
@@ -21,10 +50,13 @@ pub struct TrajectoryWriter<W: io::Write> {
     /// The constraints' names, for the held set in the `mode` column.
     constraints: Vec<String>,
     mode: String,
+    /// Whether the rows end with [`WORK_COLUMNS`].
+    work: bool,
 }
 
 impl<W: io::Write> TrajectoryWriter<W> {
-    /// A writer of the columns `t,mode,<q...>,<q_dot...>,h_<c>...,lambda_<c>...,energy`;
+    /// A writer of the columns `t,mode,<q...>,<q_dot...>,h_<c>...,lambda_<c>...,energy`, and
+    /// when `work` (a model that is not autonomous) the energy balance's [`WORK_COLUMNS`];
     /// `mode` is `free`, or `constrained:` and the names of the constraints held, joined by `+`
     /// (`constrained:floor+wall`).
     pub fn new(
@@ -32,6 +64,7 @@ impl<W: io::Write> TrajectoryWriter<W> {
         coordinates: &[String],
         velocities: &[String],
         constraints: &[String],
+        work: bool,
         progress: Progress,
     ) -> Self {
         let csv = csv::WriterBuilder::new()
@@ -45,15 +78,9 @@ impl<W: io::Write> TrajectoryWriter<W> {
             progress,
             constraints: constraints.to_vec(),
             mode: String::new(),
+            work,
         };
-        let header = ["t", "mode"]
-            .into_iter()
-            .map(str::to_string)
-            .chain(coordinates.iter().cloned())
-            .chain(velocities.iter().cloned())
-            .chain(constraints.iter().map(|c| format!("h_{c}")))
-            .chain(constraints.iter().map(|c| format!("lambda_{c}")))
-            .chain(std::iter::once("energy".to_string()));
+        let header = header(coordinates.iter().chain(velocities), constraints, work);
         let written = writer.csv.write_record(header);
         writer.keep(written);
         writer
@@ -102,6 +129,12 @@ impl<W: io::Write> TrajectoryWriter<W> {
             self.field(x)?;
         }
         self.field(s.energy)?;
+        if self.work {
+            let w = &s.work;
+            for x in [w.forces, w.drive, w.constraints, w.impact_loss] {
+                self.field(x)?;
+            }
+        }
         self.csv.write_record(None::<&[u8]>)
     }
 }
@@ -186,6 +219,7 @@ mod tests {
             &names(&["x", "y"]),
             &names(&["x_dot", "y_dot"]),
             &names(&["floor", "left wall"]),
+            false,
             Progress::hidden(),
         );
         writer.sample(&Sample {
@@ -205,5 +239,106 @@ mod tests {
             "t,mode,x,y,x_dot,y_dot,h_floor,h_left wall,lambda_floor,lambda_left wall,energy\n\
              0.5,constrained:left wall,1,2e-20,-0.25,0,1,0,0,-9.81,NaN\n"
         );
+    }
+
+    #[test]
+    fn a_model_that_is_not_autonomous_has_the_balance_after_the_energy() {
+        let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let mut writer = TrajectoryWriter::new(
+            Vec::new(),
+            &names(&["y"]),
+            &names(&["y_dot"]),
+            &names(&["floor"]),
+            true,
+            Progress::hidden(),
+        );
+        let work = zenosim::Work {
+            forces: -1.25,
+            drive: 0.0,
+            constraints: 3e-7,
+            impact_loss: 2.5,
+        };
+        for (t, mode, work) in [
+            (0.0, Mode::Free, zenosim::Work::default()),
+            (0.75, Mode::Free, work),
+        ] {
+            writer.sample(&Sample {
+                t,
+                mode,
+                q: &[1.0],
+                q_dot: &[-0.5],
+                h: &[1.0],
+                lambda: &[0.0],
+                energy: 9.0,
+                work,
+            });
+        }
+        assert_eq!(writer.rows(), 2);
+        let text = String::from_utf8(writer.finish().unwrap()).unwrap();
+        assert_eq!(
+            text,
+            "t,mode,y,y_dot,h_floor,lambda_floor,energy,\
+             work_forces,work_drive,work_constraints,impact_loss\n\
+             0,free,1,-0.5,1,0,9,0,0,0,0\n\
+             0.75,free,1,-0.5,1,0,9,-1.25,0,3e-7,2.5\n"
+        );
+        // The header without the balance is today's, column for column.
+        let plain = header(&names(&["y", "y_dot"]), &names(&["floor"]), false);
+        assert_eq!(
+            plain.join(","),
+            "t,mode,y,y_dot,h_floor,lambda_floor,energy"
+        );
+    }
+
+    #[test]
+    fn a_run_with_drag_writes_a_balance_that_closes_on_every_row() {
+        use zenosim::{models::DraggedBall, Simulation, SimulationOptions};
+        let example = DraggedBall::example();
+        let options = SimulationOptions {
+            t_end: example.t_end,
+            ..Default::default()
+        };
+        let simulation =
+            Simulation::new(&example.model, &example.q0, &example.q_dot0, options).unwrap();
+        let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let mut writer = TrajectoryWriter::new(
+            Vec::new(),
+            &names(&["y"]),
+            &names(&["y_dot"]),
+            &names(&["floor"]),
+            true,
+            Progress::hidden(),
+        );
+        let run = simulation.run(&mut writer);
+        let text = String::from_utf8(writer.finish().unwrap()).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(
+            lines.next(),
+            Some(
+                "t,mode,y,y_dot,h_floor,lambda_floor,energy,\
+                 work_forces,work_drive,work_constraints,impact_loss"
+            )
+        );
+        let mut e0 = None;
+        let mut last = Vec::new();
+        for line in lines {
+            let v: Vec<f64> = line
+                .split(',')
+                .skip(2)
+                .map(|x| x.parse().unwrap())
+                .collect();
+            let [energy, forces, drive, constraints, loss] = v[4..] else {
+                panic!("{line}")
+            };
+            let e0 = *e0.get_or_insert(energy);
+            let size = e0.abs() + energy.abs() + forces.abs() + loss.abs();
+            let residual = energy - e0 - (forces + drive + constraints - loss);
+            assert!(residual.abs() <= 1e-8 * size, "{line}: {residual:e}");
+            last = v;
+        }
+        // The last row holds the run's totals.
+        let w = run.work;
+        assert_eq!(last[5..], [w.forces, w.drive, w.constraints, w.impact_loss]);
+        assert!(w.forces < 0.0 && w.impact_loss > 0.0, "{w:?}");
     }
 }

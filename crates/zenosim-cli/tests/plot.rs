@@ -469,6 +469,79 @@ fn a_rerun_without_plot_removes_the_old_plots() {
     );
 }
 
+/// The distance from `p` to the polyline `line`, in pixels.
+fn distance_to(p: (f64, f64), line: &[(f64, f64)]) -> f64 {
+    line.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+            let length = dx * dx + dy * dy;
+            let s = if length > 0.0 {
+                (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / length).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (p.0 - a.0 - s * dx).hypot(p.1 - a.1 - s * dy)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// A trajectory with the energy balance's columns (a model that is not autonomous) draws
+/// `E(0) + work − impact loss` dashed over the energy, where it coincides with it. The columns
+/// are written here into the ball's trajectory, with the impacts' loss `E(0) − E(t)` that its
+/// balance has.
+#[test]
+fn the_energy_plot_draws_the_balance_over_the_energy() {
+    let scratch = ball_run();
+    let path = scratch.path("out/trajectory.csv");
+    let csv = text(&path);
+    let mut lines = csv.lines();
+    let header = lines.next().unwrap();
+    let energy = header.split(',').position(|c| c == "energy").unwrap();
+    let mut e0 = None;
+    let mut out = format!("{header},{WORK_COLUMNS}\n");
+    for line in lines {
+        let e: f64 = line.split(',').nth(energy).unwrap().parse().unwrap();
+        let e0 = *e0.get_or_insert(e);
+        out.push_str(&format!("{line},0,0,0,{}\n", e0 - e));
+    }
+    std::fs::write(&path, out).unwrap();
+    let output = scratch.zenosim(&["plot", "out"]);
+    assert_exit(&output, 0);
+
+    let s = summary(&scratch.path("out"));
+    let svg = text(&scratch.path("out/energy.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    let _ = check_time_chart(&doc, &["energy"], &s);
+    let label = "E(0) + work − impact loss";
+    assert!(
+        texts(&doc).contains(&label.to_string()),
+        "the legend names it"
+    );
+    let energy = points(&inside(&groups(&doc, "series", Some("energy")), "polyline")[0]);
+    let dashes = inside(&groups(&doc, "series", Some(label)), "polyline");
+    assert!(dashes.len() > 50, "dashed: {} dashes", dashes.len());
+    let dashes: Vec<(f64, f64)> = dashes.iter().flat_map(points).collect();
+    // From the start to the end, on the energy's line.
+    let (left, right) = (energy[0].0, energy[energy.len() - 1].0);
+    let xs = dashes.iter().map(|p| p.0);
+    let (first, last) = (
+        xs.clone().fold(f64::INFINITY, f64::min),
+        xs.fold(0.0, f64::max),
+    );
+    assert!(
+        first - left < 15.0 && right - last < 15.0,
+        "{first}..{last}"
+    );
+    for p in &dashes {
+        let d = distance_to(*p, &energy);
+        assert!(d <= 1.5, "{p:?} is {d} px from the energy");
+    }
+    // The other plots do not draw it.
+    let svg = text(&scratch.path("out/figure.svg"));
+    assert!(!svg.contains(label));
+}
+
 /// With impacts on several constraints (the corner: the floor's, then the wall's while the
 /// floor holds), each constraint's impacts are marked on a row of their own, named, and the
 /// switch onto both walls names them.

@@ -165,6 +165,110 @@ fn the_constrained_phase_has_its_multiplier_and_stays_on_the_surface() {
 }
 
 #[test]
+fn an_autonomous_run_keeps_its_columns_and_balances_its_energy_with_the_impacts() {
+    let scratch = Scratch::new(BALL);
+    let output = scratch.run(&[]);
+    assert_exit(&output, 0);
+    let csv = Csv::read(&scratch.path("out/trajectory.csv"));
+    assert_eq!(
+        csv.header.join(","),
+        "t,mode,x,x_dot,h_floor,lambda_floor,energy",
+        "no energy balance columns for an autonomous model"
+    );
+    let s = summary(&scratch.path("out"));
+    assert_eq!(s["schema_version"], 3);
+    let b = &s["energy_balance"];
+    let energy = csv.column("energy");
+    let (first, last) = (&csv.rows[0], csv.rows.last().unwrap());
+    assert_eq!(b["energy_start"].as_f64(), Some(first.values[energy]));
+    assert_eq!(b["energy_end"].as_f64(), Some(last.values[energy]));
+    assert_eq!(b["energy_end"], s["final"]["energy"]);
+    for key in ["work_forces", "work_drive", "work_constraints"] {
+        assert_eq!(b[key], 0.0, "{key}");
+    }
+    // Dropped from 1 and at rest on the floor at the end: the impacts took m g.
+    let loss = b["impact_loss"].as_f64().unwrap();
+    assert!((loss - 9.81).abs() < 1e-8, "impact loss {loss}");
+    let residual = b["residual"].as_f64().unwrap();
+    assert!(
+        residual.abs() <= 1e-7 * balance_scale(b),
+        "residual {residual}"
+    );
+    // The report says nothing of the balance: the impacts alone change the energy.
+    assert!(!stdout(&output).contains("energy:"), "{}", stdout(&output));
+}
+
+#[test]
+fn a_model_with_forces_writes_the_energy_balance() {
+    let scratch = Scratch::new(DRAGGED_BALL);
+    let output = scratch.run(&["--plot"]);
+    assert_exit(&output, 0);
+    let csv = Csv::read(&scratch.path("out/trajectory.csv"));
+    assert_eq!(
+        csv.header.join(","),
+        format!("t,mode,y,y_dot,h_floor,lambda_floor,energy,{WORK_COLUMNS}")
+    );
+    let column = |name: &str| csv.column(name);
+    let (energy, forces, drive, constraints, loss) = (
+        column("energy"),
+        column("work_forces"),
+        column("work_drive"),
+        column("work_constraints"),
+        column("impact_loss"),
+    );
+    // E(t) − E(0) = work_forces + work_drive + work_constraints − impact_loss on every row.
+    let e0 = csv.rows[0].values[energy];
+    assert_eq!(e0, 9.81);
+    for r in &csv.rows {
+        let v = &r.values;
+        let balance = v[forces] + v[drive] + v[constraints] - v[loss];
+        let size = e0.abs() + v[energy].abs() + v[forces].abs() + v[loss].abs();
+        assert!(
+            (v[energy] - e0 - balance).abs() <= 1e-7 * size,
+            "t = {}: E − E(0) = {}, balance {balance}",
+            r.t,
+            v[energy] - e0
+        );
+        assert!(v[forces] <= 0.0, "the drag dissipates");
+        assert_eq!((v[drive], v[constraints]), (0.0, 0.0), "nothing moves");
+        assert!(v[loss] >= 0.0);
+    }
+
+    let s = summary(&scratch.path("out"));
+    let b = &s["energy_balance"];
+    assert_eq!(b["energy_start"].as_f64(), Some(e0));
+    let last = csv.rows.last().unwrap();
+    assert_eq!(b["energy_end"].as_f64(), Some(last.values[energy]));
+    for (key, column) in [("work_forces", forces), ("impact_loss", loss)] {
+        let total = b[key].as_f64().unwrap();
+        assert!(
+            (total - last.values[column]).abs() <= 1e-12 * e0,
+            "{key}: {total} in the summary, {} on the last row",
+            last.values[column]
+        );
+    }
+    assert!(b["work_forces"].as_f64().unwrap() < 0.0);
+    assert!(b["impact_loss"].as_f64().unwrap() > 0.0);
+    let residual = b["residual"].as_f64().unwrap();
+    assert!(
+        residual.abs() <= 1e-7 * balance_scale(b),
+        "residual {residual}"
+    );
+
+    let report = stdout(&output);
+    let line = report
+        .lines()
+        .find(|l| l.trim_start().starts_with("energy:"))
+        .unwrap_or_else(|| panic!("an energy line: {report}"));
+    assert!(
+        line.contains("forces") && line.contains("impact loss") && line.contains("residual"),
+        "{line}"
+    );
+    let svg = std::fs::read_to_string(scratch.path("out/energy.svg")).unwrap();
+    assert!(svg.contains(r#"data-name="E(0) + work − impact loss""#));
+}
+
+#[test]
 fn zeno_off_stalls_at_the_zeno_point_with_exit_3() {
     let scratch = Scratch::new(BALL);
     let output = scratch.run(&["--zeno", "off"]);

@@ -32,6 +32,8 @@ const ENTRY_HEIGHT: i32 = TEXT_SIZE as i32 + 7;
 pub enum Sample {
     /// A line.
     Line(ShapeStyle),
+    /// A dashed line.
+    Dashed(ShapeStyle),
     /// A circle of this radius.
     Dot(ShapeStyle, u32),
     /// A triangle.
@@ -122,6 +124,11 @@ pub fn legend<DB: DrawingBackend, CT: CoordTranslate>(
         match entry.sample {
             Sample::Line(style) => {
                 area.draw(&PathElement::new(vec![(cx - 11, cy), (cx + 11, cy)], style))?
+            }
+            Sample::Dashed(style) => {
+                for x in [cx - 11, cx + 3] {
+                    area.draw(&PathElement::new(vec![(x, cy), (x + 8, cy)], style))?
+                }
             }
             Sample::Dot(style, r) => area.draw(&Circle::new((cx, cy), r, style))?,
             Sample::Triangle(style) => area.draw(&TriangleMarker::new((cx, cy), 6, style))?,

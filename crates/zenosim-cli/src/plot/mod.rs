@@ -4,7 +4,9 @@
 //!
 //! The files, each written under a temporary name and renamed once complete:
 //! `figure`, the paper's Figs. 4/5 (velocities, displacements, configuration plane);
-//! `velocities`, `displacements`, `energy` against time; `plane`; `zeno`, the flight times.
+//! `velocities`, `displacements`, `energy` against time (with `E(0) + work − impact loss`
+//! beside the energy when the trajectory has the energy balance's columns); `plane`; `zeno`,
+//! the flight times.
 
 mod canvas;
 mod chart;
@@ -29,6 +31,7 @@ use std::str::FromStr;
 use anyhow::{anyhow, Context};
 
 pub use canvas::Format;
+pub use style::short;
 pub use work_precision::work_precision;
 
 use crate::cli::PlotArgs;

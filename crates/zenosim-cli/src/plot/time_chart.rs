@@ -1,14 +1,16 @@
 //! Quantities against time (the velocities, the displacements, the energy), one line per
 //! series, with the run's events marked: impacts and lift-offs along the time axis, and each
 //! switch to the constrained motion (or the stall at a Zeno point) as a labelled vertical line.
+//! Beside the energy, when the trajectory has the energy balance, `E(0) + work − impact loss`
+//! dashed over it: where the balance holds, the two coincide.
 
 use plotters::chart::ChartContext;
 use plotters::coord::cartesian::Cartesian2d;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::{
-    Circle, Color, DrawingArea, EmptyElement, LineSeries, PathElement, RGBColor, ShapeStyle, Text,
-    TriangleMarker, WHITE,
+    Circle, Color, DashedLineSeries, DrawingArea, EmptyElement, LineSeries, PathElement, RGBColor,
+    ShapeStyle, Text, TriangleMarker, WHITE,
 };
 use plotters::style::text_anchor::{HPos, VPos};
 use plotters_backend::DrawingBackend;
@@ -18,6 +20,11 @@ use super::chart::{axes, frame, legend, note, Entry, Sample};
 use super::scene::{pad, Scene};
 use super::style::{color, short, IMPACT, LIFTOFF, LINE_WIDTH, SWITCH};
 use super::svg::Layer;
+
+/// The label of the energy balance's curve on the energy chart.
+pub const BALANCE: &str = "E(0) + work − impact loss";
+/// Its dashes and the gaps between them, in pixels.
+const DASH: (u32, u32) = (7, 5);
 
 /// What a time chart shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,13 +55,18 @@ impl Quantity {
         }
     }
 
-    /// The trajectory's series it shows, and their colours' indices.
+    /// The trajectory's series it shows as solid lines, and their colours' indices.
     fn series(self, n: usize) -> std::ops::Range<usize> {
         match self {
             Quantity::Displacements => 0..n,
             Quantity::Velocities => n..2 * n,
             Quantity::Energy => 2 * n..2 * n + 1,
         }
+    }
+
+    /// The trajectory's series it shows dashed over them: the energy balance.
+    fn dashed(self, n: usize, scene: &Scene) -> Option<usize> {
+        (self == Quantity::Energy && scene.trajectory.balance).then_some(2 * n + 1)
     }
 }
 
@@ -91,9 +103,11 @@ pub fn draw_time<DB: DrawingBackend>(
 ) -> Drawn<DB> {
     let n = scene.record.coordinates.len();
     let series = quantity.series(n);
+    let dashed = quantity.dashed(n, scene);
     let lines = &scene.trajectory;
     let range = series
         .clone()
+        .chain(dashed)
         .filter_map(|s| lines.ranges[s])
         .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
         .unwrap_or((-1.0, 1.0));
@@ -118,6 +132,10 @@ pub fn draw_time<DB: DrawingBackend>(
         .zip(&styles)
         .map(|(name, &style)| Entry::new(*name, Sample::Line(style)))
         .collect();
+    let dashed_style = color(names.len()).stroke_width(LINE_WIDTH);
+    if dashed.is_some() {
+        entries.push(Entry::new(BALANCE, Sample::Dashed(dashed_style)));
+    }
     // With impacts on several constraints, each constraint's on a row of its own.
     let by_constraint = record.impacts_by_constraint();
     let rows: Vec<(String, Vec<f64>, RGBColor)> = if by_constraint.len() > 1 {
@@ -147,6 +165,11 @@ pub fn draw_time<DB: DrawingBackend>(
     for ((s, name), style) in series.zip(&names).zip(styles) {
         layer.set("series", name);
         chart.draw_series(LineSeries::new(lines.lines[s].iter().copied(), style))?;
+    }
+    if let Some(s) = dashed {
+        layer.set("series", BALANCE);
+        let points = lines.lines[s].iter().copied();
+        chart.draw_series(DashedLineSeries::new(points, DASH.0, DASH.1, dashed_style))?;
     }
     switches(&mut chart, layer, scene, (low, high))?;
     // Every impact and lift-off, as a mark along the bottom (a row per constraint reached,

@@ -5,7 +5,9 @@
 //! the cubic through both rows' `q` and `q̇` (Hermite interpolation), its derivative for the
 //! velocities: exact for a free flight under constant gravity (a parabola), third order
 //! otherwise, where a straight chord would cut through the constraint's surface. The energy is
-//! joined by a straight line. The two rows of an event, at the same time, are not joined.
+//! joined by a straight line, and so is the energy balance `E(0) + work − impact loss` of a
+//! trajectory with its columns (a model that is not autonomous). The two rows of an event, at
+//! the same time, are not joined.
 
 use std::fs::File;
 use std::path::Path;
@@ -14,6 +16,7 @@ use anyhow::{anyhow, bail, Context};
 
 use super::decimate::{Bounds, PathDecimator, TimeDecimator};
 use super::record::Record;
+use crate::trajectory::{self, WORK_COLUMNS};
 
 /// Columns of the time axis kept per series: twice the widest plot's pixels.
 const TIME_COLUMNS: usize = 2048;
@@ -24,8 +27,11 @@ const MAX_BETWEEN: usize = 64;
 
 /// The trajectory, decimated for drawing.
 pub struct Trajectory {
-    /// The series `q`, `q̇` (in the summary's order), then the energy: `(t, value)` points.
+    /// The series `q`, `q̇` (in the summary's order), then the energy, then (when
+    /// [`Trajectory::balance`]) `E(0) + work − impact loss`: `(t, value)` points.
     pub lines: Vec<Vec<(f64, f64)>>,
+    /// Whether the file has the energy balance's columns, and [`Trajectory::lines`] its series.
+    pub balance: bool,
     /// Each series' least and greatest values.
     pub ranges: Vec<Option<(f64, f64)>>,
     /// The path in the plane of two columns of `(q, q̇)`.
@@ -46,21 +52,25 @@ pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Resu
         .byte_headers()
         .map_err(|error| anyhow!("{display}:1: {error}"))?
         .clone();
-    let names = check_header(&header, record).map_err(|problem| {
+    let (names, balance) = check_header(&header, record).map_err(|problem| {
         anyhow!(
             "{display}:1: {problem}: this trajectory does not belong to the summary.json beside \
              it; run the model again"
         )
     })?;
     let n = record.coordinates.len();
-    let energy = header.len() - 1;
+    let energy = names.len() - 1 - if balance { WORK_COLUMNS.len() } else { 0 };
+    // The series: q, q̇, the energy, and E(0) + work − impact loss.
+    let series = 2 * n + 1 + usize::from(balance);
     let (t_start, t_end) = record.time_span();
-    let mut lines = TimeDecimator::new(2 * n + 1, t_start, t_end, TIME_COLUMNS);
+    let mut lines = TimeDecimator::new(series, t_start, t_end, TIME_COLUMNS);
     let mut plane_path = PathDecimator::new(PLANE_CELLS);
     let mut row = csv::ByteRecord::new();
-    let mut values = vec![0.0; 2 * n + 1];
+    let mut values = vec![0.0; series];
     let mut previous: Option<(f64, Vec<f64>)> = None;
-    let mut between = vec![0.0; 2 * n + 1];
+    let mut between = vec![0.0; series];
+    // E(0): the first row's energy less its balance (0 at the start).
+    let mut energy_start = None;
     let column = (t_end - t_start) / TIME_COLUMNS as f64;
     let mut rows = 0;
     loop {
@@ -87,8 +97,18 @@ pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Resu
                 })
         };
         let t = field(0)?;
-        for (k, value) in values.iter_mut().enumerate() {
+        for (k, value) in values.iter_mut().take(2 * n + 1).enumerate() {
             *value = field(if k < 2 * n { 2 + k } else { energy })?;
+        }
+        if balance {
+            let mut work = [0.0; WORK_COLUMNS.len()];
+            for (k, w) in work.iter_mut().enumerate() {
+                *w = field(energy + 1 + k)?;
+            }
+            let [forces, drive, constraints, impact_loss] = work;
+            let work = forces + drive + constraints - impact_loss;
+            let start = *energy_start.get_or_insert(values[2 * n] - work);
+            values[2 * n + 1] = start + work;
         }
         rows += 1;
         if let Some((t0, before)) = &previous {
@@ -97,7 +117,7 @@ pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Resu
                 let steps = ((gap / column).ceil() as usize).min(MAX_BETWEEN);
                 for j in 1..steps {
                     let s = j as f64 / steps as f64;
-                    hermite(before, &values, gap, s, &mut between);
+                    hermite(before, &values, gap, s, balance, &mut between);
                     lines.push(t0 + s * gap, &between);
                     plane_path.push(between[plane.0], between[plane.1]);
                 }
@@ -121,8 +141,9 @@ pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Resu
         );
     }
     Ok(Trajectory {
-        lines: (0..=2 * n).map(|s| lines.series(s)).collect(),
-        ranges: (0..=2 * n).map(|s| lines.range(s)).collect(),
+        lines: (0..series).map(|s| lines.series(s)).collect(),
+        ranges: (0..series).map(|s| lines.range(s)).collect(),
+        balance,
         path_bounds: plane_path.bounds(),
         path: plane_path.finish(),
     })
@@ -130,9 +151,10 @@ pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Resu
 
 /// The point a fraction `s` of the way from row `a` to row `b`, `h` apart in time: each
 /// coordinate on the cubic with `a`'s and `b`'s values and velocities, each velocity its
-/// derivative; the last value (the energy) on the straight line. Rows are `q…, q̇…, energy`.
-fn hermite(a: &[f64], b: &[f64], h: f64, s: f64, out: &mut [f64]) {
-    let n = a.len() / 2;
+/// derivative; the values after them (the energy, the balance) on the straight line. Rows are
+/// `q…, q̇…, energy` and, for `balanced` rows, the balance.
+fn hermite(a: &[f64], b: &[f64], h: f64, s: f64, balanced: bool, out: &mut [f64]) {
+    let n = (a.len() - 1 - usize::from(balanced)) / 2;
     let (s2, s3) = (s * s, s * s * s);
     // The cubic Hermite basis and its derivatives in s.
     let (h00, h10, h01, h11) = (
@@ -152,33 +174,32 @@ fn hermite(a: &[f64], b: &[f64], h: f64, s: f64, out: &mut [f64]) {
         out[i] = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1;
         out[n + i] = (d00 * q0 + d01 * q1) / h + d10 * v0 + d11 * v1;
     }
-    out[2 * n] = a[2 * n] + s * (b[2 * n] - a[2 * n]);
+    for k in 2 * n..a.len() {
+        out[k] = a[k] + s * (b[k] - a[k]);
+    }
 }
 
-/// The header's names, checked against the summary's: `t, mode, q…, q̇…, h_…, λ_…, energy`.
-fn check_header(header: &csv::ByteRecord, record: &Record) -> Result<Vec<String>, String> {
+/// The header's names, checked against the summary's: `t, mode, q…, q̇…, h_…, λ_…, energy`,
+/// and maybe the energy balance's columns (whether it has them).
+fn check_header(header: &csv::ByteRecord, record: &Record) -> Result<(Vec<String>, bool), String> {
     let names: Vec<String> = header
         .iter()
         .map(|name| String::from_utf8_lossy(name).into_owned())
         .collect();
     let m = record.constraints.len();
-    let expected: Vec<String> = ["t", "mode"]
-        .into_iter()
-        .map(str::to_string)
-        .chain(record.columns().cloned())
-        .chain(record.constraints.iter().map(|c| format!("h_{c}")))
-        .chain(record.constraints.iter().map(|c| format!("lambda_{c}")))
-        .chain(["energy".to_string()])
-        .collect();
-    if names != expected {
-        return Err(format!(
-            "the header is `{}`, expected `{}` for {} coordinates and {m} constraints",
-            names.join(","),
-            expected.join(","),
-            record.coordinates.len()
-        ));
+    for balance in [false, true] {
+        if names == trajectory::header(record.columns(), &record.constraints, balance) {
+            return Ok((names, balance));
+        }
     }
-    Ok(names)
+    Err(format!(
+        "the header is `{}`, expected `{}` (and `{}` after it, for a model that is not \
+         autonomous) for {} coordinates and {m} constraints",
+        names.join(","),
+        trajectory::header(record.columns(), &record.constraints, false).join(","),
+        WORK_COLUMNS.join(","),
+        record.coordinates.len()
+    ))
 }
 
 /// What is wrong with a row, in words.
@@ -213,7 +234,7 @@ mod tests {
         let (t0, t1) = (0.1, 0.9);
         let mut out = vec![0.0; 5];
         for s in [0.0, 0.25, 0.5, 0.9, 1.0] {
-            hermite(&row(t0), &row(t1), t1 - t0, s, &mut out);
+            hermite(&row(t0), &row(t1), t1 - t0, s, false, &mut out);
             let exact = row(t0 + s * (t1 - t0));
             for (k, (a, b)) in out.iter().zip(&exact).enumerate() {
                 assert!((a - b).abs() < 1e-12, "s = {s}, value {k}: {a} vs {b}");
@@ -226,8 +247,18 @@ mod tests {
         // x = sin t over a step of 0.2: the cubic errs by about h⁴/384.
         let row = |t: f64| vec![t.sin(), t.cos(), 0.0];
         let mut out = vec![0.0; 3];
-        hermite(&row(1.0), &row(1.2), 0.2, 0.5, &mut out);
+        hermite(&row(1.0), &row(1.2), 0.2, 0.5, false, &mut out);
         assert!((out[0] - 1.1_f64.sin()).abs() < 1e-5, "{}", out[0]);
         assert!((out[1] - 1.1_f64.cos()).abs() < 1e-3, "{}", out[1]);
+    }
+
+    #[test]
+    fn the_energy_and_the_balance_are_joined_by_straight_lines() {
+        let (a, b) = ([0.0, 1.0, 4.0, 4.5], [1.0, 1.0, 2.0, 2.5]);
+        let mut out = [0.0; 4];
+        hermite(&a, &b, 1.0, 0.25, true, &mut out);
+        assert_eq!(out[0], 0.25, "x moves at its speed 1");
+        assert_eq!(out[1], 1.0);
+        assert_eq!((out[2], out[3]), (3.5, 4.0));
     }
 }

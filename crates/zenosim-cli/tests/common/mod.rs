@@ -54,6 +54,51 @@ x1_dot = 0.5
 t_end = 6.0
 "#;
 
+/// A ball with linear air drag (`D = ½ c ẏ²`) dropped on a floor: a model that is not
+/// autonomous, so its trajectory has the energy balance's columns.
+pub const DRAGGED_BALL: &str = r#"
+name = "dragged-ball"
+coordinates = ["y"]
+lagrangian = "0.5*m*y_dot^2 - m*g*y"
+dissipation = "0.5*c*y_dot^2"
+
+[parameters]
+m = 1.0
+g = 9.81
+c = 0.8
+e = 0.6
+
+[[constraint]]
+name = "floor"
+h = "y"
+restitution = "e"
+
+[initial]
+y = 1.0
+
+[simulation]
+t_end = 2.0
+"#;
+
+/// The columns of the energy balance, after `energy`, for a model that is not autonomous.
+pub const WORK_COLUMNS: &str = "work_forces,work_drive,work_constraints,impact_loss";
+
+/// The size of the energies and works of `summary.json`'s `energy_balance`: the scale of its
+/// residual.
+pub fn balance_scale(balance: &serde_json::Value) -> f64 {
+    [
+        "energy_start",
+        "energy_end",
+        "work_forces",
+        "work_drive",
+        "work_constraints",
+        "impact_loss",
+    ]
+    .iter()
+    .map(|key| balance[key].as_f64().expect(key).abs())
+    .fold(0.0, f64::max)
+}
+
 /// The path of the `zenosim` binary.
 pub fn binary() -> &'static str {
     env!("CARGO_BIN_EXE_zenosim")
