@@ -43,7 +43,7 @@ pub(crate) struct Contacts {
     /// The constraint indices, increasing.
     pub indices: Vec<usize>,
     n: usize,
-    /// `hᵢ(q)`.
+    /// `hᵢ(t, q)`.
     pub h: Vec<f64>,
     /// `|hᵢ| + Σ|Aᵢⱼ qⱼ|`, the size of `hᵢ`'s terms.
     pub h_scale: Vec<f64>,
@@ -239,8 +239,9 @@ impl Contacts {
     }
 
     /// The impact law on the set (the generalized Newton law): the impulses `Λ ≥ 0` solve
-    /// `0 ≤ Λ ⊥ W Λ + (1 + e) ∘ A q̇⁻ ≥ 0`, and `q̇⁺ = q̇⁻ + M⁻¹ Aᵀ Λ`, so that
-    /// `Aᵢ q̇⁺ ≥ −eᵢ Aᵢ q̇⁻` with equality where `Λᵢ > 0`. Returns `Λ`, in the set's order.
+    /// `0 ≤ Λ ⊥ W Λ + (1 + e) ∘ ḣ⁻ ≥ 0`, and `q̇⁺ = q̇⁻ + M⁻¹ Aᵀ Λ`, so that
+    /// `ḣᵢ⁺ ≥ −eᵢ ḣᵢ⁻` with equality where `Λᵢ > 0` (`ḣ = A q̇ + ∂ₜh`). Returns `Λ`, in the
+    /// set's order.
     pub fn impact(
         &self,
         restitution: &[f64],

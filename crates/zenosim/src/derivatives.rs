@@ -764,6 +764,134 @@ mod tests {
         Ok(())
     }
 
+    /// `L = ½ (1.5 + 0.3 sin t cos q₁) q̇₁² + 0.4 cos 2t q̇₁ q̇₂ + ½ q̇₂² − 9.81 (1 + 0.1 t) q₂`,
+    /// `h = q₂ − 0.2 sin 3t q₁ + 0.1 cos t q₁²`, `Q = (sin t − 0.3 q̇₂, 0)`, `D = 0.25 q̇₁² q̇₂²`.
+    struct TimeDependent {
+        constraints: [Constraint; 1],
+    }
+
+    impl HybridLagrangian for TimeDependent {
+        const DIMENSION: Option<usize> = Some(2);
+        fn dimension(&self) -> usize {
+            2
+        }
+        fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
+            self.lagrangian_at(D::zero(), q, v)
+        }
+        fn lagrangian_at<D: Scalar>(&self, t: D, q: &[D], v: &[D]) -> D {
+            (t.sin() * q[0].cos() * 0.3 + 1.5) * v[0] * v[0] * 0.5
+                + (t * 2.0).cos() * v[0] * v[1] * 0.4
+                + v[1] * v[1] * 0.5
+                - (t * 0.1 + 1.0) * q[1] * 9.81
+        }
+        fn constraints(&self) -> &[Constraint] {
+            &self.constraints
+        }
+        fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D {
+            self.constraint_at(index, D::zero(), q)
+        }
+        fn constraint_at<D: Scalar>(&self, _index: usize, t: D, q: &[D]) -> D {
+            q[1] - (t * 3.0).sin() * q[0] * 0.2 + t.cos() * q[0] * q[0] * 0.1
+        }
+        fn generalized_force<D: Scalar>(&self, t: D, _q: &[D], v: &[D], force: &mut [D]) {
+            force[0] += t.sin() - v[1] * 0.3;
+        }
+        fn dissipation<D: Scalar>(&self, _t: D, _q: &[D], v: &[D]) -> D {
+            v[0] * v[0] * v[1] * v[1] * 0.25
+        }
+        fn is_autonomous(&self) -> bool {
+            false
+        }
+    }
+
+    fn check_time_dependent(t: f64, q: &[f64], v: &[f64]) -> Result<(), TestCaseError> {
+        use num_dual::Dual64;
+        let model = TimeDependent {
+            constraints: [Constraint::new("moving", 0.5)],
+        };
+        // ∂L/∂q̇ᵢ and ∂L/∂qᵢ at (t, q, q̇) by duals of the model itself.
+        let partial = |t: f64, q: &[f64], v: &[f64], i: usize, of_velocity: bool| {
+            let seed = |x: &[f64], on: bool| -> Vec<Dual64> {
+                x.iter()
+                    .enumerate()
+                    .map(|(k, &x)| Dual64::new(x, if on && k == i { 1.0 } else { 0.0 }))
+                    .collect()
+            };
+            let (qd, vd) = (seed(q, !of_velocity), seed(v, of_velocity));
+            model.lagrangian_at(Dual64::from_re(t), &qd, &vd).eps
+        };
+        let terms = lagrangian_terms_of::<f64, 2, _>(&model, t, q, v);
+        let acc = nalgebra::Cholesky::new(terms.mass)
+            .expect("M > 0")
+            .solve(&terms.force);
+        // d/dt ∂L/∂q̇ᵢ along (q̇, q̈, 1) = ∂L/∂qᵢ + Qᵢ − ∂D/∂q̇ᵢ.
+        let along = |s: f64, i: usize| {
+            let qs: Vec<f64> = (0..2).map(|k| q[k] + s * v[k]).collect();
+            let vs: Vec<f64> = (0..2).map(|k| v[k] + s * acc[k]).collect();
+            partial(t + s, &qs, &vs, i, true)
+        };
+        for i in 0..2 {
+            let d_dt = (along(STEP1, i) - along(-STEP1, i)) / (2.0 * STEP1);
+            let applied = applied_force_of::<f64, 2, _>(&model, t, q, v)[i];
+            let rhs = partial(t, q, v, i, false) + applied;
+            close(
+                &format!("Euler–Lagrange residual [{i}] at t = {t}"),
+                d_dt,
+                rhs,
+                10.0,
+            )?;
+        }
+        // The applied force: Q and −∂D/∂q̇ in closed form.
+        let applied = applied_force_of::<f64, 2, _>(&model, t, q, v);
+        close(
+            "Q₁",
+            applied[0],
+            t.sin() - 0.3 * v[1] - 0.5 * v[0] * v[1] * v[1],
+            1.0,
+        )?;
+        close("Q₂", applied[1], -0.5 * v[0] * v[0] * v[1], 1.0)?;
+        // h along (q̇, 1): its first and second derivatives are ḣ and the drift of ḧ.
+        let h_along = |s: f64| {
+            let qs: Vec<f64> = (0..2).map(|k| q[k] + s * v[k]).collect();
+            model.constraint_at::<f64>(0, t + s, &qs)
+        };
+        let c = constraint_parts_of::<f64, 2, _>(&model, 0, t, q, v);
+        let h_t = (model.constraint_at::<f64>(0, t + STEP1, q)
+            - model.constraint_at::<f64>(0, t - STEP1, q))
+            / (2.0 * STEP1);
+        close("∂ₜh", c.h_t, h_t, 1.0)?;
+        close(
+            "ḣ",
+            c.a_q_dot,
+            (h_along(STEP1) - h_along(-STEP1)) / (2.0 * STEP1),
+            1.0,
+        )?;
+        let s = STEP2;
+        let second = |s: f64| (h_along(s) - 2.0 * h_along(0.0) + h_along(-s)) / (s * s);
+        let drift = (4.0 * second(s / 2.0) - second(s)) / 3.0;
+        let q_dot_hessian: f64 = c.hessian_q_dot.iter().zip(v).map(|(a, b)| a * b).sum();
+        close("the drift of ḧ", q_dot_hessian + c.time_drift, drift, 1.0)?;
+        let (g, g_dot, g_ddot) = guard_along_of::<f64, _>(&model, 0, t, q, v);
+        prop_assert_eq!(g, c.h);
+        close("guard ḣ", g_dot, c.a_q_dot, 1.0)?;
+        close("guard drift", g_ddot, q_dot_hessian + c.time_drift, 1.0)?;
+        // The traced programs, at this time.
+        let compiled = crate::Compiled::trace_n::<2, _>(&model);
+        let traced = compiled.constraint_parts::<2>(0, t, q, v).expect("traced");
+        same_bits("∂ₜh traced", traced.h_t, c.h_t)?;
+        same_bits("drift traced", traced.time_drift, c.time_drift)?;
+        let traced = compiled.lagrangian_terms::<2>(t, q, v).expect("traced");
+        for k in 0..2 {
+            same_bits("force traced", traced.force[k], terms.force[k])?;
+        }
+        same_bits(
+            "energy traced",
+            compiled.energy(t, q, v).expect("traced"),
+            energy_of::<f64, _>(&model, t, q, v),
+        )?;
+        Ok(())
+    }
+
     /// A model whose constraint branches on a value (`abs`): that part cannot be traced.
     struct Branching {
         constraints: [Constraint; 1],
@@ -923,6 +1051,19 @@ mod tests {
             for (a, theta) in c.gradient.iter().zip(&q) {
                 prop_assert!((a - l * theta.cos()).abs() <= 1e-15);
             }
+        }
+
+        /// A model whose `L` and `h` depend on time, with forces and dissipation: the free
+        /// motion satisfies the Euler–Lagrange equation with `t` moving, `∂ₜh`, `ḣ` and the drift of
+        /// `ḧ` are the finite differences along `(q̇, 1)`, and the traced programs give the
+        /// same bits as the differentiation.
+        #[test]
+        fn time_dependent_model_derivatives(
+            t in -3.0..3.0f64,
+            q in vec_in(-2.0..2.0, 2),
+            v in vec_in(-2.0..2.0, 2),
+        ) {
+            check_time_dependent(t, &q, &v)?;
         }
 
         #[test]

@@ -1,5 +1,5 @@
 //! The mechanics derived from a hybrid Lagrangian: equations of motion (free and constrained),
-//! the impact map `P`, and the projection `R∞` onto `h = 0, A q̇ = 0`.
+//! the impact map `P`, and the projection `R∞` onto `h = 0, ḣ = 0` (`ḣ = A q̇ + ∂ₜh`).
 //!
 //! Conventions (REFERENCE §1, the paper's typo corrected):
 //! - free motion `M q̈ = f`, `f = ∂L/∂q − (∂²L/∂q̇∂q) q̇ − ∂²L/∂q̇∂t + Q` (docs/forces-and-time.md);
@@ -109,7 +109,7 @@ fn normal_of<const N: usize>(
         s: d.s,
         gradient_norm,
         curvature: if speed > 0.0 { curvature / speed } else { 0.0 },
-        a_q_dot_round_off: ROUND_OFF * gradient_norm * speed,
+        a_q_dot_round_off: ROUND_OFF * (gradient_norm * speed + d.h_t.abs()),
         h_ddot_round_off: ROUND_OFF
             * (gradient_norm * norm(motion.acc_free.as_slice()) + motion.a_dot_q_dot.abs()),
     };

@@ -142,8 +142,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         self.zeno.push(point);
         // Best effort: the run stops here.
         let _ = self.advance_work(t);
-        self.t = t;
-        self.y.copy_from_slice(y);
+        self.commit_time(t, y);
         Next::Stop(Outcome::ZenoStalled { constraint, t_zeno })
     }
 

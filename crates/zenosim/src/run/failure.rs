@@ -79,8 +79,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let _ = self.emit_grid_before(t);
         let _ = self.advance_work(t);
         let _ = self.emit(t, y, self.mode);
-        self.t = t;
-        self.y.copy_from_slice(y);
+        self.commit_time(t, y);
         error
     }
 }

@@ -295,7 +295,7 @@ pub(super) struct Surface {
     pub norm: f64,
     /// `|h| + Σ|A_i q_i|`: rounding the coordinates changes `h` by about `ε` times this.
     pub h_scale: f64,
-    /// `A q̇`.
+    /// `ḣ = A q̇ + ∂ₜh`.
     pub a_q_dot: f64,
 }
 

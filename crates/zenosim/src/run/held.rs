@@ -37,7 +37,13 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 self.normal(index, t1, &end[..n], &end[n..])?.lift_margin()
             }
         };
-        let crossing = if lift_ruled_out(margin_start, margin_end) {
+        let next_bound = self.lift_trend(
+            ActiveSet::single(index),
+            (t0, t1),
+            (margin_start, margin_end),
+        )?;
+        let dip = matches!(next_bound, Some(None));
+        let crossing = if !dip && lift_ruled_out(margin_start, margin_end) {
             None
         } else {
             self.dense()?;
@@ -69,9 +75,52 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             }
             return self.liftoff(index, t, state);
         }
-        // (The step's end is on h = 0, A q̇ = 0 already: `Equations::correct_end`.)
+        // (The step's end is on h = 0, ḣ = 0 already: `Equations::correct_end`.)
+        self.flight_bound = next_bound.flatten().unwrap_or(f64::INFINITY);
         self.commit_step()?;
         Ok(Next::Continue)
+    }
+
+    /// For a model that is not autonomous, where a held force may vary with time while the
+    /// held motion does not (a ball resting on a vibrating table: its steps grow without
+    /// bound), what the lift-off test needs beyond the step's ends: `None` for an autonomous
+    /// model; else `Some(bound)`, with the margin also sampled at the step's middle, and the
+    /// next step bounded so that the parabola through the three margins, continued, turns by
+    /// at most half the margin at the step's end (`|m″| s²/2 ≤ |m|/2`): no window where the
+    /// force lets go can then fit between two ends that hold. `Some(None)` where the middle
+    /// lets go (the step must be searched) and no bound is needed.
+    fn lift_trend(
+        &mut self,
+        held: ActiveSet,
+        (t0, t1): (f64, f64),
+        (m0, m1): (f64, f64),
+    ) -> Result<Option<Option<f64>>, Error> {
+        if self.sim.model.is_autonomous() || t1 <= t0 {
+            return Ok(None);
+        }
+        self.dense()?;
+        let h = t1 - t0;
+        let t_mid = t0 + 0.5 * h;
+        let mut y = vec![0.0; 2 * self.n];
+        interpolate(&self.stepper, self.cubic, t_mid, &mut y);
+        let m_mid = match held.only() {
+            Some(index) => {
+                let (q, q_dot) = y.split_at(self.n);
+                self.normal(index, t_mid, q, q_dot)?.lift_margin()
+            }
+            None => self.set_margin(held, t_mid, &y)?,
+        };
+        if m_mid > 0.0 {
+            return Ok(Some(None));
+        }
+        let curvature = 4.0 * (m0 - 2.0 * m_mid + m1).abs() / (h * h);
+        let floor = 1e3 * crate::events::time_resolution(t1);
+        let bound = if curvature > 0.0 {
+            (m1.abs() / curvature).sqrt().max(floor)
+        } else {
+            f64::INFINITY
+        };
+        Ok(Some(Some(bound)))
     }
 
     pub(super) fn liftoff(&mut self, index: usize, t: f64, state: Vec<f64>) -> Result<Next, Error> {
@@ -126,7 +175,9 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let end = self.stepper.y().to_vec();
         let margin_end = self.set_margin(set, t1, &end)?;
         let margin_start = self.set_margin_start;
-        let crossing = if lift_ruled_out(margin_start, margin_end) {
+        let next_bound = self.lift_trend(set, (t0, t1), (margin_start, margin_end))?;
+        let dip = matches!(next_bound, Some(None));
+        let crossing = if !dip && lift_ruled_out(margin_start, margin_end) {
             None
         } else {
             self.dense()?;
@@ -151,6 +202,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 .map_err(|err| self.fail_dynamics(err, t, &copy))?;
             return self.set_liftoff(set, t, state);
         }
+        self.flight_bound = next_bound.flatten().unwrap_or(f64::INFINITY);
         self.commit_step()?;
         Ok(Next::Continue)
     }

@@ -180,7 +180,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     }
 
     /// The mode after an impact on `set` that left `y`: the constraints of the set at rest
-    /// (`|A q̇| within rounding`) are closed, and law 1 picks those that hold; `y` is put onto
+    /// (`|ḣ|` within rounding) are closed, and law 1 picks those that hold; `y` is put onto
     /// them.
     pub(super) fn settle(&mut self, set: ActiveSet, t: f64, y: &mut [f64]) -> Result<Mode, Error> {
         let (q, q_dot) = y.split_at(self.n);

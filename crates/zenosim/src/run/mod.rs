@@ -120,9 +120,11 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     w: Vec<f64>,
     h_buf: Vec<f64>,
     lambda_buf: Vec<f64>,
-    /// The energy balance up to `work_t` (`work.rs`).
+    /// The energy balance up to `work_t` (`work.rs`), which may run ahead of `t` inside a
+    /// step, and the balance at `t` itself: the record's.
     work: Work,
     work_t: f64,
+    work_at_t: Work,
 }
 
 /// What the post-step logic decided.
@@ -171,6 +173,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             lambda_buf: vec![0.0; m],
             work: Work::default(),
             work_t: 0.0,
+            work_at_t: Work::default(),
         }
     }
 
@@ -201,7 +204,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 impacts: self.impacts,
                 spurious_events: self.spurious,
             },
-            work: self.work,
+            work: self.work_at_t,
         }
     }
 
@@ -330,8 +333,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         self.cubic = false;
         let mut eqs = self.equations();
         let started = self.stepper.start(&mut eqs, t, y, hint);
-        self.t = t;
-        self.y.copy_from_slice(y);
+        self.commit_time(t, y);
         started.map_err(|e| self.step_error(e))
     }
 }

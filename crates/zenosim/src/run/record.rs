@@ -80,8 +80,12 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             OutputGrid::Steps => {}
             OutputGrid::Uniform(_) => self.emit_grid_through(t1)?,
         }
+        // (`commit_time`, without copying the state first.)
         self.t = t1;
         self.y.copy_from_slice(self.stepper.y());
+        if self.work_t == t1 {
+            self.work_at_t = self.work;
+        }
         Ok(())
     }
 
