@@ -104,8 +104,14 @@ fn report(
         line(format!("  {}", c.name));
         line(format!("    h(q0)       = {}", number(h)));
         line(format!("    A(q0)       = [{}]", join(&a)));
+        // ḣ = A q̇ + ∂h/∂t: A q̇ where the surface does not move.
+        let label = if model.is_autonomous() {
+            "A q̇        "
+        } else {
+            "ḣ (at t = 0)"
+        };
         line(format!(
-            "    A q̇         = {}",
+            "    {label} = {}",
             number(derived.normal_velocity(index, q0, q_dot0))
         ));
         line(format!("    restitution = {}", number(c.restitution)));

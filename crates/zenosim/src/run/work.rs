@@ -118,7 +118,9 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         Ok(sum)
     }
 
-    /// The powers `(Q·q̇, −∂ₜL, −Σλᵢ Aᵢq̇)` at `(t, y)` in the current mode.
+    /// The powers `(Q·q̇, −∂ₜL, −Σλᵢ Aᵢq̇)` at `(t, y)` in the current mode; on the held
+    /// constraints, where `ḣᵢ = 0`, `−λᵢ Aᵢq̇ = λᵢ ∂ₜhᵢ`: exactly 0 on a surface that does not
+    /// move (`−λ A q̇` would be the rounding of `A q̇`).
     fn power(&mut self, t: f64, y: &[f64]) -> Result<[f64; 3], DynamicsError> {
         let (q, q_dot) = y.split_at(self.n);
         let (forces, drive) = powers(self.sim.model, t, q, q_dot);
@@ -126,7 +128,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let constraints = if let Some(index) = held.only() {
             let mut w = vec![0.0; self.n];
             let normal = self.mech.normal(index, t, q, q_dot, &mut w)?;
-            -normal.lambda() * (normal.a_q_dot - normal.h_t)
+            normal.lambda() * normal.h_t
         } else if held.is_empty() {
             0.0
         } else {
@@ -136,7 +138,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             hold.lambda
                 .iter()
                 .zip(&contacts.normals)
-                .map(|(l, normal)| -l * (normal.a_q_dot - normal.h_t))
+                .map(|(l, normal)| l * normal.h_t)
                 .sum()
         };
         Ok([forces, drive, constraints])
