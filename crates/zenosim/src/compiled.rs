@@ -75,6 +75,9 @@ struct Program {
     /// mass under constant forces); a run then only checks the witnesses among the inputs
     /// (the constants' were checked when it was built).
     constant_outputs: Option<Box<[f64]>>,
+    /// Whether a step reads the last input, `t` (an autonomous model's programs do not: a run
+    /// then leaves its register alone).
+    uses_time: bool,
     /// Tells programs apart (a clone keeps it: its constants are the same), so that a run finds
     /// its constants still in place when the thread's last run was of the same program.
     id: u64,
@@ -481,6 +484,10 @@ impl Program {
             registers: inputs + constants.len() + work + output_registers.len(),
             work,
             constant_outputs,
+            uses_time: nodes
+                .iter()
+                .enumerate()
+                .any(|(id, node)| live[id] && *node == Node::Input(inputs as u32 - 1)),
             constants: constants.into(),
             steps: steps.into(),
             outputs: output_registers.into(),
@@ -607,7 +614,9 @@ impl Program {
             regs.set(k, x);
             regs.set(n + k, v);
         }
-        regs.set(2 * n, t);
+        if self.uses_time {
+            regs.set(2 * n, t);
+        }
         if fill {
             regs.fill(self.inputs, &self.constants);
         }

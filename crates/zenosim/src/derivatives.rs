@@ -400,6 +400,7 @@ pub(crate) fn constraint_terms<const N: usize, L: HybridLagrangian>(
 /// `h`, `ḣ` and the part of `ḧ` that `q̈` does not give, of constraint `index`, without the full
 /// gradient: the guard and its first two time derivatives along free flight (any `n`);
 /// compiled or differentiated.
+#[inline]
 pub(crate) fn guard_along<L: HybridLagrangian>(
     model: &L,
     index: usize,

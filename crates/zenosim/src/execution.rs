@@ -277,8 +277,7 @@ pub struct Work {
     /// while held, and `−Σ Λᵢ ∂ₜhᵢ` at impacts (0 where no surface moves).
     pub constraints: f64,
     /// The energy taken out by impacts, `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻) ≥ 0`, and by the switches at Zeno
-    /// points (their measured change). For an autonomous model, where nothing else changes the
-    /// energy, every jump's measured change.
+    /// points (their measured change).
     pub impact_loss: f64,
 }
 

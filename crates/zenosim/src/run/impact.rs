@@ -52,6 +52,9 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         // Pushing, so not below 0 (at rest, `A q̇` may round to either side of it).
         let impulse = -(1.0 + e) * normal.a_q_dot / normal.s;
         let impulse = if impulse > 0.0 { impulse } else { 0.0 };
+        // The law's own normal velocity after it: ḣ⁺ = ḣ⁻ + s Λ.
+        let h_dot_after = normal.a_q_dot + normal.s * impulse;
+        self.impact_jump(&[impulse], &[normal.a_q_dot], &[h_dot_after], &[normal.h_t]);
         let contacts = ActiveSet::single(index);
         let change = (contacts, vec![impulse]);
         self.record_event(
@@ -146,6 +149,17 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let impulses = contacts
             .impact(&restitution, &mut after[n..])
             .map_err(|err| self.fail_dynamics(err, t, &before))?;
+        // The law's own normal velocities after it: ḣ⁺ = ḣ⁻ + W Λ.
+        let k = contacts.len();
+        let h_dot_before: Vec<f64> = contacts.normals.iter().map(|c| c.a_q_dot).collect();
+        let h_t: Vec<f64> = contacts.normals.iter().map(|c| c.h_t).collect();
+        let h_dot_after: Vec<f64> = (0..k)
+            .map(|i| {
+                let row = &contacts.delassus[i * k..(i + 1) * k];
+                h_dot_before[i] + row.iter().zip(&impulses).map(|(w, l)| w * l).sum::<f64>()
+            })
+            .collect();
+        self.impact_jump(&impulses, &h_dot_before, &h_dot_after, &h_t);
         let mode = self.settle(set, t, &mut after)?;
         self.record_event(
             EventKind::Impact,

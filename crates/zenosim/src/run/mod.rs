@@ -125,6 +125,8 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     work: Work,
     work_t: f64,
     work_at_t: Work,
+    /// The loss and the work of the impact being recorded, from its law (`work.rs`).
+    jump: Option<(f64, f64)>,
 }
 
 /// What the post-step logic decided.
@@ -174,6 +176,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             work: Work::default(),
             work_t: 0.0,
             work_at_t: Work::default(),
+            jump: None,
         }
     }
 

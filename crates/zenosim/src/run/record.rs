@@ -44,7 +44,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         self.advance_work(t)?;
         self.emit(t, before, self.mode)?;
         let (contacts, impulses) = change;
-        self.record_jump(kind, (contacts, &impulses), t, before, after)?;
+        self.record_jump(kind, contacts, t, before, after)?;
         let event = Event {
             kind,
             t,

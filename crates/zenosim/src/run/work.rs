@@ -168,33 +168,44 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             .sum::<f64>())
     }
 
+    /// The impact about to be recorded: impulses `Λᵢ`, normal velocities `ḣᵢ⁻` and `ḣᵢ⁺` (the
+    /// law's), and `∂ₜhᵢ`. Its loss `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻)` and its work `−Σ Λᵢ ∂ₜhᵢ` are kept for
+    /// [`Runner::record_jump`]: no evaluation.
+    pub(super) fn impact_jump(
+        &mut self,
+        impulses: &[f64],
+        h_dot_before: &[f64],
+        h_dot_after: &[f64],
+        h_t: &[f64],
+    ) {
+        let mut loss = 0.0;
+        let mut work = 0.0;
+        for (i, &impulse) in impulses.iter().enumerate() {
+            loss -= 0.5 * impulse * (h_dot_after[i] + h_dot_before[i]);
+            work -= impulse * h_t[i];
+        }
+        self.jump = Some((loss, work));
+    }
+
     /// The jump of an event at `t` from `before` to `after` in the balance: an impact's
-    /// impulses `Λᵢ` (on `contacts`) lose `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻)` and do the work `−Σ Λᵢ ∂ₜhᵢ`;
-    /// any other change of state (the switch at a Zeno point), and every jump of an autonomous
-    /// model (where the two agree to rounding), loses what the energy measures.
+    /// impulses lose `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻)` and do the work `−Σ Λᵢ ∂ₜhᵢ` ([`Runner::impact_jump`]);
+    /// any other change of state (the switch at a Zeno point onto `contacts`) loses what the
+    /// energy measures, less its impulse's work on a surface that moves.
     pub(super) fn record_jump(
         &mut self,
         kind: EventKind,
-        (contacts, impulses): (ActiveSet, &[f64]),
+        contacts: ActiveSet,
         t: f64,
         before: &[f64],
         after: &[f64],
     ) -> Result<(), Error> {
         let n = self.n;
         let model = self.sim.model;
-        // An autonomous model's impacts do no work: their loss is the energy's change, two
-        // evaluations instead of the impulses' normal velocities.
-        if kind == EventKind::Impact && !model.is_autonomous() {
-            let mut w = vec![0.0; n];
-            for (index, &impulse) in contacts.iter().zip(impulses) {
-                let normal = self
-                    .mech
-                    .normal(index, t, &before[..n], &before[n..], &mut w)
-                    .map_err(|err| self.dynamics_error(err, t, before))?;
-                let (_, h_dot_after, _) = guard_along(model, index, t, &after[..n], &after[n..]);
-                self.work.impact_loss -= 0.5 * impulse * (h_dot_after + normal.a_q_dot);
-                self.work.constraints -= impulse * normal.h_t;
-            }
+        if kind == EventKind::Impact {
+            // From the law, as the impact left it (`impact_jump`).
+            let (loss, work) = self.jump.take().unwrap_or((0.0, 0.0));
+            self.work.impact_loss += loss;
+            self.work.constraints += work;
         } else if before != after {
             let e_before = energy(model, t, &before[..n], &before[n..]);
             let e_after = energy(model, t, &after[..n], &after[n..]);
