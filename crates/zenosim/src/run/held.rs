@@ -37,11 +37,15 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 self.normal(index, t1, &end[..n], &end[n..])?.lift_margin()
             }
         };
-        let next_bound = self.lift_trend(
-            ActiveSet::single(index),
-            (t0, t1),
-            (margin_start, margin_end),
-        )?;
+        let next_bound = if self.sim.model.is_autonomous() {
+            None
+        } else {
+            self.lift_trend(
+                ActiveSet::single(index),
+                (t0, t1),
+                (margin_start, margin_end),
+            )?
+        };
         let dip = matches!(next_bound, Some(None));
         let crossing = if !dip && lift_ruled_out(margin_start, margin_end) {
             None
@@ -95,7 +99,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         (t0, t1): (f64, f64),
         (m0, m1): (f64, f64),
     ) -> Result<Option<Option<f64>>, Error> {
-        if self.sim.model.is_autonomous() || t1 <= t0 {
+        if t1 <= t0 {
             return Ok(None);
         }
         self.dense()?;
@@ -175,7 +179,11 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let end = self.stepper.y().to_vec();
         let margin_end = self.set_margin(set, t1, &end)?;
         let margin_start = self.set_margin_start;
-        let next_bound = self.lift_trend(set, (t0, t1), (margin_start, margin_end))?;
+        let next_bound = if self.sim.model.is_autonomous() {
+            None
+        } else {
+            self.lift_trend(set, (t0, t1), (margin_start, margin_end))?
+        };
         let dip = matches!(next_bound, Some(None));
         let crossing = if !dip && lift_ruled_out(margin_start, margin_end) {
             None

@@ -56,8 +56,11 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     }
 
     /// Commits the energy balance up to `t` (inside the last step, or at its start).
+    #[inline]
     pub(super) fn advance_work(&mut self, t: f64) -> Result<(), Error> {
-        self.work = self.work_at(t)?;
+        if !self.sim.model.is_autonomous() {
+            self.work = self.work_at(t)?;
+        }
         self.work_t = t;
         Ok(())
     }
