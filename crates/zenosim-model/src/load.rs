@@ -120,6 +120,20 @@ pub struct ModelFile {
 }
 
 impl ModelFile {
+    /// Runs the model from its `[initial]` state with its own options, keeping the trajectory;
+    /// an error where the engine refuses the start.
+    pub fn run_keeping(&self) -> Result<(zenosim::Execution, zenosim::Trajectory), zenosim::Error> {
+        let mut trajectory = zenosim::Trajectory::default();
+        let simulation = zenosim::Simulation::new(
+            &self.model,
+            &self.initial.q,
+            &self.initial.q_dot,
+            self.options(),
+        )?;
+        let run = simulation.run(&mut trajectory);
+        Ok((run, trajectory))
+    }
+
     /// The engine's options for these settings. A model with a `zeno_reset` uses it as `R∞`.
     pub fn options(&self) -> SimulationOptions {
         let any_reset = (0..self.model.constraints().len()).any(|i| self.model.has_zeno_reset(i));

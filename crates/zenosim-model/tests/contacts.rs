@@ -4,9 +4,7 @@
 
 use std::path::PathBuf;
 
-use zenosim::{
-    ActiveSet, EventKind, Execution, HybridLagrangian, Mode, Outcome, Simulation, Trajectory,
-};
+use zenosim::{ActiveSet, EventKind, Execution, HybridLagrangian, Mode, Outcome, Trajectory};
 use zenosim_model::{parse_model, ModelFile};
 
 fn load(name: &str) -> ModelFile {
@@ -37,15 +35,7 @@ fn index(file: &ModelFile, name: &str) -> usize {
 /// satisfy: it finishes, no constraint is crossed by more than 1e-9 at any sample, and no
 /// impact gains kinetic energy (the energy is `T + V`, `V` the same on both sides).
 fn run(file: &ModelFile) -> (Execution, Trajectory) {
-    let mut trajectory = Trajectory::default();
-    let run = Simulation::new(
-        &file.model,
-        &file.initial.q,
-        &file.initial.q_dot,
-        file.options(),
-    )
-    .unwrap()
-    .run(&mut trajectory);
+    let (run, trajectory) = file.run_keeping().unwrap();
     assert_eq!(run.outcome, Outcome::Finished, "{}", file.name);
     for p in &trajectory.points {
         assert!(p.h.iter().all(|&h| h >= -1e-9), "{}: {p:?}", file.name);

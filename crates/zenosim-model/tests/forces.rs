@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use zenosim::models::{DampedOscillator, DraggedBall, VibratingTable};
-use zenosim::{EventKind, Execution, HybridLagrangian, Mode, Outcome, Simulation, Trajectory};
+use zenosim::{EventKind, Execution, HybridLagrangian, Mode, Outcome, Trajectory};
 use zenosim_model::{parse_model, ModelFile, Override};
 
 fn load(name: &str, overrides: &[Override]) -> ModelFile {
@@ -28,15 +28,7 @@ fn parameter(file: &ModelFile, name: &str) -> f64 {
 /// and keep its energy balance to 1e-8 (relative to the energies and works involved).
 fn run(file: &ModelFile) -> (Execution, Trajectory) {
     assert!(!file.model.is_autonomous(), "{}", file.name);
-    let mut trajectory = Trajectory::default();
-    let run = Simulation::new(
-        &file.model,
-        &file.initial.q,
-        &file.initial.q_dot,
-        file.options(),
-    )
-    .unwrap()
-    .run(&mut trajectory);
+    let (run, trajectory) = file.run_keeping().unwrap();
     assert_eq!(run.outcome, Outcome::Finished, "{}", file.name);
     for p in &trajectory.points {
         assert!(p.h.iter().all(|&h| h >= -1e-9), "{}: {p:?}", file.name);
@@ -91,12 +83,7 @@ fn the_vibrating_table_file_lets_go_where_the_table_decelerates_at_g() {
     let reference = VibratingTable::new(p("m"), p("g"), p("a"), p("w"), p("e"));
     let phase = reference.liftoff_phase().expect("a w² > g");
     let (run, _) = run(&file);
-    let liftoffs: Vec<f64> = run
-        .events
-        .iter()
-        .filter(|e| e.kind == EventKind::Liftoff)
-        .map(|e| e.t)
-        .collect();
+    let liftoffs: Vec<f64> = run.times_of(EventKind::Liftoff);
     assert!(liftoffs.len() >= 20, "{} lift-offs", liftoffs.len());
     for t in liftoffs {
         let theta = (p("w") * t).rem_euclid(std::f64::consts::TAU);
@@ -116,7 +103,7 @@ fn on_a_gently_vibrating_table_the_ball_stays_after_its_zeno_point() {
     assert!(p("a") * p("w") * p("w") < p("g"));
     let (run, trajectory) = run(&file);
     assert_eq!(run.zeno.len(), 1);
-    assert!(run.events.iter().all(|e| e.kind != EventKind::Liftoff));
+    assert!(run.times_of(EventKind::Liftoff).is_empty());
     let t_zeno = run.zeno[0].t_switch;
     for s in trajectory.points.iter().filter(|s| s.t > t_zeno) {
         let table = p("a") * (p("w") * s.t).sin();
@@ -139,12 +126,7 @@ fn the_pd_arm_is_held_on_its_stop_and_leaves_it_when_its_set_point_crosses_it() 
     let (run, trajectory) = run(&file);
     assert_eq!(run.zeno.len(), 1, "{:?}", run.zeno);
     assert!(run.zeno[0].t_zeno < t1);
-    let liftoffs: Vec<f64> = run
-        .events
-        .iter()
-        .filter(|e| e.kind == EventKind::Liftoff)
-        .map(|e| e.t)
-        .collect();
+    let liftoffs: Vec<f64> = run.times_of(EventKind::Liftoff);
     assert_eq!(liftoffs.len(), 1, "{liftoffs:?}");
     let error = (liftoffs[0] - t1).abs();
     eprintln!(

@@ -289,6 +289,16 @@ impl Work {
 }
 
 impl Execution {
+    /// The times of the events of `kind`, in order (the lift-offs of a ball on a vibrating
+    /// table, its Zeno switches).
+    pub fn times_of(&self, kind: EventKind) -> Vec<f64> {
+        self.events
+            .iter()
+            .filter(|e| e.kind == kind)
+            .map(|e| e.t)
+            .collect()
+    }
+
     /// The times of the impacts that reached constraint `index` (the constraints held at an
     /// impact take part in it too, in [`Event::contacts`], but do not count here).
     pub fn impact_times(&self, index: usize) -> Vec<f64> {

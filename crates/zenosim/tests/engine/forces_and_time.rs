@@ -164,14 +164,10 @@ fn a_lift_off_between_two_held_step_ends_is_not_missed() {
     let (run, trajectory) = run(&frame, &example.q0, &q_dot0, example.t_end);
     // The impacts resolved before each switch depend on the rounding of `h`'s terms (`y − a sin
     // ωt` against `y`), so compare what the motion fixes: the lift-offs and the Zeno times.
-    let liftoffs = |run: &Execution| -> Vec<f64> {
-        run.events
-            .iter()
-            .filter(|e| e.kind == EventKind::Liftoff)
-            .map(|e| e.t)
-            .collect()
-    };
-    let (mine, theirs) = (liftoffs(&run), liftoffs(&lab));
+    let (mine, theirs) = (
+        run.times_of(EventKind::Liftoff),
+        lab.times_of(EventKind::Liftoff),
+    );
     assert_eq!(mine.len(), theirs.len());
     assert_eq!(run.zeno.len(), lab.zeno.len());
     let zeno = run
@@ -197,12 +193,7 @@ fn a_ball_on_a_vibrating_table_leaves_it_where_the_table_decelerates_at_g() {
     let model = &example.model;
     let phase = model.liftoff_phase().expect("a ω² > g");
     let (run, trajectory) = run(model, &example.q0, &example.q_dot0, example.t_end);
-    let liftoffs: Vec<f64> = run
-        .events
-        .iter()
-        .filter(|e| e.kind == EventKind::Liftoff)
-        .map(|e| e.t)
-        .collect();
+    let liftoffs: Vec<f64> = run.times_of(EventKind::Liftoff);
     assert!(liftoffs.len() >= 20, "{} lift-offs", liftoffs.len());
     assert!(run.zeno.len() >= 20, "{} Zeno points", run.zeno.len());
     let mut worst: f64 = 0.0;
@@ -225,7 +216,7 @@ fn a_ball_on_a_gently_vibrating_table_stays_on_it_after_its_zeno_point() {
     assert_eq!(model.liftoff_phase(), None);
     let (run, trajectory) = run(&model, &[0.05], &[0.0], 2.0);
     assert_eq!(run.zeno.len(), 1);
-    assert!(run.events.iter().all(|e| e.kind != EventKind::Liftoff));
+    assert!(run.times_of(EventKind::Liftoff).is_empty());
     let last = run.events.last().unwrap();
     assert_eq!(last.kind, EventKind::Zeno);
     // Carried by the table from there: y = a sin(ω t) to the tolerance.
