@@ -140,6 +140,14 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
             ));
             EXIT_FAILED
         }
+        Outcome::Interrupted => {
+            print_error(&format!(
+                "the run was interrupted at t = {}; what was computed up to then is in {}",
+                number(execution.t_final),
+                dir.display()
+            ));
+            EXIT_FAILED
+        }
     };
     // A plot that could not be drawn is an output failure, said after the run's own outcome.
     plots?;
@@ -245,6 +253,9 @@ pub fn message(run: &Execution, constraints: &[String]) -> String {
             number(*t_zeno)
         ),
         Outcome::Failed(error) => format!("failed: {} (after {impacts})", failure(error)),
+        Outcome::Interrupted => {
+            format!("interrupted at t = {} after {impacts}", number(run.t_final))
+        }
     }
 }
 

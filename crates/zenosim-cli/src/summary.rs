@@ -307,12 +307,13 @@ pub struct TrajectoryJson {
     pub rows: u64,
 }
 
-/// `finished`, `zeno_stalled` or `failed`.
+/// `finished`, `zeno_stalled`, `failed` or `interrupted`.
 pub fn status(outcome: &Outcome) -> &'static str {
     match outcome {
         Outcome::Finished => "finished",
         Outcome::ZenoStalled { .. } => "zeno_stalled",
         Outcome::Failed(_) => "failed",
+        Outcome::Interrupted => "interrupted",
     }
 }
 
