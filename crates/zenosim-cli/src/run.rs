@@ -142,6 +142,14 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
             ));
             EXIT_FAILED
         }
+        Outcome::Interrupted => {
+            print_error(&format!(
+                "the run was interrupted at t = {}; what was computed up to then is in {}",
+                number(execution.t_final),
+                dir.display()
+            ));
+            EXIT_FAILED
+        }
     };
     // A plot that could not be drawn is an output failure, said after the run's own outcome.
     plots?;

@@ -31,6 +31,9 @@ pub fn message(run: &Execution, constraints: &[String]) -> String {
             number(*t_zeno)
         ),
         Outcome::Failed(error) => format!("failed: {} (after {impacts})", failure(error)),
+        Outcome::Interrupted => {
+            format!("interrupted at t = {} after {impacts}", number(run.t_final))
+        }
     }
 }
 

@@ -364,13 +364,14 @@ pub struct TrajectoryJson {
     pub rows: u64,
 }
 
-/// The word for `outcome` in `summary.json` and in a sweep's rows: `finished`, `zeno_stalled`
-/// or `failed`.
+/// The word for `outcome` in `summary.json` and in a sweep's rows: `finished`, `zeno_stalled`,
+/// `failed` or `interrupted`.
 pub fn status(outcome: &Outcome) -> &'static str {
     match outcome {
         Outcome::Finished => "finished",
         Outcome::ZenoStalled { .. } => "zeno_stalled",
         Outcome::Failed(_) => "failed",
+        Outcome::Interrupted => "interrupted",
     }
 }
 

@@ -207,6 +207,9 @@ pub enum Outcome {
     },
     /// A numerical failure; everything up to it is kept.
     Failed(Error),
+    /// The observer asked to stop ([`crate::Observer::interrupted`]); everything up to the
+    /// current time is kept.
+    Interrupted,
 }
 
 impl std::fmt::Display for Outcome {
@@ -217,6 +220,7 @@ impl std::fmt::Display for Outcome {
                 write!(f, "stalled at the Zeno point, τ∞ ≈ {t_zeno}")
             }
             Outcome::Failed(error) => write!(f, "failed: {error}"),
+            Outcome::Interrupted => write!(f, "interrupted"),
         }
     }
 }

@@ -37,6 +37,13 @@ pub trait Observer {
     fn wants_samples(&self) -> bool {
         true
     }
+
+    /// Whether the caller wants the run to stop now (Ctrl-C, a cancelled sweep), asked before
+    /// every step. When it says yes, the run ends at once with [`crate::Outcome::Interrupted`]
+    /// at the current time, keeping everything computed up to there. Default false.
+    fn interrupted(&mut self) -> bool {
+        false
+    }
 }
 
 /// An observer that ignores everything (for benchmarks and callers that need only the record).

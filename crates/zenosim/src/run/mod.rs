@@ -220,6 +220,9 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             return Ok(outcome);
         }
         while self.t < options.t_end {
+            if self.observer.interrupted() {
+                return Ok(Outcome::Interrupted);
+            }
             self.check_step_limit()?;
             let h_max = options.max_step.min(self.flight_bound);
             self.flight_bound = f64::INFINITY;

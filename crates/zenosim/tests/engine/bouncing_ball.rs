@@ -128,3 +128,47 @@ fn the_epsilon_rule_switches_on_the_pre_impact_state() {
     assert_eq!(run.zeno[0].impacts, impacts);
     assert_eq!(run.stats.impacts, impacts as u64);
 }
+
+/// An observer that keeps the trajectory and asks to stop once it has seen `after` samples.
+struct StopAfter {
+    after: usize,
+    kept: Trajectory,
+}
+
+impl zenosim::Observer for StopAfter {
+    fn sample(&mut self, sample: &zenosim::Sample<'_>) {
+        self.kept.sample(sample);
+    }
+
+    fn interrupted(&mut self) -> bool {
+        self.kept.points.len() >= self.after
+    }
+}
+
+#[test]
+fn an_interrupted_run_ends_where_it_was_asked_keeping_what_it_computed() {
+    let ball = BouncingBall::new(1.0, G, 0.8);
+    let mut observer = StopAfter {
+        after: 40,
+        kept: Trajectory::default(),
+    };
+    let run = Simulation::new(&ball, &[H0], &[0.0], SimulationOptions::default())
+        .unwrap()
+        .run(&mut observer);
+    assert_eq!(run.outcome, Outcome::Interrupted);
+    // It stopped at the first step after the 40th sample, long before t_end = 10 and before
+    // the Zeno time: the record ends at the last state sent.
+    let last = observer.kept.points.last().unwrap();
+    assert!(observer.kept.points.len() >= 40 && observer.kept.points.len() < 44);
+    assert_eq!(run.t_final, last.t);
+    assert_eq!(run.final_state.q, last.q);
+    assert_eq!(run.final_state.q_dot, last.q_dot);
+    assert!(run.t_final < ball.zeno_time(H0));
+    assert_eq!(run.intervals.last().unwrap().end, run.t_final);
+    // The impacts before the stop are recorded, and each is one of the closed form's.
+    let impacts = run.impact_times(0);
+    assert!(!impacts.is_empty());
+    for (k, t) in impacts.iter().enumerate() {
+        assert!(relative(*t, ball.impact_time(H0, k as u32 + 1)) < 1e-9);
+    }
+}

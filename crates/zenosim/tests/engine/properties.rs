@@ -384,6 +384,7 @@ fn check_off<L: HybridLagrangian>(
             prop_assert_eq!(run.zeno.len(), 1, "{}", ctx);
         }
         Outcome::Failed(e) => prop_assert!(false, "{ctx}: failed: {e}"),
+        Outcome::Interrupted => prop_assert!(false, "{ctx}: interrupted without being asked"),
     }
     prop_assert!(
         run.events.iter().all(|e| e.kind == EventKind::Impact),
