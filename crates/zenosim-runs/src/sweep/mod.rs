@@ -152,6 +152,25 @@ impl Sweep {
         &self.settings
     }
 
+    /// The names of a row's columns, as the table reports them: `index`, the axes' names,
+    /// `status`, `impacts`, `t_zeno`, `t_switch`, `t_final`, `final_<coordinate>` for each
+    /// coordinate, `final_<coordinate>_dot` for each velocity, and `message`.
+    pub fn columns(&self) -> Vec<String> {
+        let start = std::iter::once("index").chain(self.points.names());
+        let outcome = ["status", "impacts", "t_zeno", "t_switch", "t_final"];
+        start
+            .chain(outcome)
+            .map(str::to_string)
+            .chain(
+                self.coordinates
+                    .iter()
+                    .chain(&self.velocities)
+                    .map(|name| format!("final_{name}")),
+            )
+            .chain(std::iter::once("message".to_string()))
+            .collect()
+    }
+
     /// Runs point `index` (< `self.points().len()`); it stops at its next step once `cancel` is
     /// set. Never panics: a run that cannot complete at all is a [`Status::Failed`] row.
     pub fn run_point(&self, index: usize, cancel: &AtomicBool) -> Row {
