@@ -37,15 +37,18 @@ pub fn sweep(args: &SweepArgs) -> Result<u8, Failure> {
     } else {
         Combine::Product
     };
-    let points = Points::new(args.vary.clone(), combine).bad_input_any()?;
+    let points = Points::new(args.vary.clone(), combine)
+        .map_err(anyhow::Error::from)
+        .bad_input()?;
     let settings = RunSettings {
         t_end: args.t_end,
         zeno: args.zeno,
         rtol: args.rtol,
         atol: args.atol,
     };
-    let sweep =
-        Sweep::new(&display, &source, args.formulas.limits(), points, settings).bad_input_any()?;
+    let sweep = Sweep::new(&display, &source, args.formulas.limits(), points, settings)
+        .map_err(anyhow::Error::from)
+        .bad_input()?;
     let shard = args.shard.unwrap_or(Shard::WHOLE);
     let columns = sweep.columns();
     if let Some(map) = &args.plot {
@@ -56,6 +59,15 @@ pub fn sweep(args: &SweepArgs) -> Result<u8, Failure> {
         .clone()
         .unwrap_or_else(|| default_path(&sweep, shard));
     let (dir, name) = split(&path).bad_input()?;
+    let format = args.format.unwrap_or_default();
+    let map_path = path.with_extension(format.extension());
+    if args.plot.is_some() && map_path == path {
+        return Err(anyhow!(
+            "--out {}: the map would be written over the sweep's file; name the file .csv",
+            path.display()
+        ))
+        .bad_input();
+    }
 
     let total = shard.len_of(sweep.points().len());
     let bar = RunsDone::new(total);
@@ -80,8 +92,6 @@ pub fn sweep(args: &SweepArgs) -> Result<u8, Failure> {
     let mut written = vec![path.clone()];
     let map = match &args.plot {
         Some(spec) => {
-            let format = args.format.unwrap_or_default();
-            let map_path = path.with_extension(format.extension());
             let drawn = plot::draw_map(&sweep, spec, &columns, &table.rows, format, &map_path);
             if drawn.is_ok() {
                 written.push(map_path);
@@ -213,15 +223,4 @@ fn report(sweep: &Sweep, shard: Shard, rows: &[Row], written: &[PathBuf]) -> Str
         let _ = writeln!(text, "  wrote    {}", path.display());
     }
     text
-}
-
-/// Sorting errors of the sweep crate into [`Failure`]s.
-trait ClassifyAny<T> {
-    fn bad_input_any(self) -> Result<T, Failure>;
-}
-
-impl<T, E: std::error::Error + Send + Sync + 'static> ClassifyAny<T> for Result<T, E> {
-    fn bad_input_any(self) -> Result<T, Failure> {
-        self.map_err(|e| Failure::BadInput(anyhow!(e)))
-    }
 }

@@ -217,7 +217,12 @@ impl Part {
         (&mut reader)
             .take(MAX_FIRST_LINE)
             .read_line(&mut first)
-            .map_err(|_| anyhow!("{display}: not a zenosim sweep file (it is not text)"))?;
+            .map_err(|error| match error.kind() {
+                io::ErrorKind::InvalidData => {
+                    anyhow!("{display}: not a zenosim sweep file (it is not text)")
+                }
+                _ => anyhow!("cannot read {display}: {error}"),
+            })?;
         let identity = Identity::parse(first.trim_end_matches(['\n', '\r'])).map_err(|why| {
             anyhow!(
                 "{display}: not a zenosim sweep file: {why} (write the parts with `zenosim \

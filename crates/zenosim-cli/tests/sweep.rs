@@ -227,9 +227,15 @@ fn maps_that_cannot_be_drawn_are_refused_before_anything_runs() {
             "draw the map from an unsharded",
         ),
         (&["--format", "png"], "add --plot"),
+        (
+            &["--plot", "e,x,t_zeno", "--out", "s.svg"],
+            "written over the sweep's file",
+        ),
     ] {
         let mut args = extra.to_vec();
-        args.extend_from_slice(&["--out", "s.csv"]);
+        if !extra.contains(&"--out") {
+            args.extend_from_slice(&["--out", "s.csv"]);
+        }
         let output = if extra.contains(&"--zip") {
             s.zenosim(
                 &[
@@ -254,7 +260,7 @@ fn maps_that_cannot_be_drawn_are_refused_before_anything_runs() {
             "{extra:?}: {}",
             stderr(&output)
         );
-        assert!(!s.path("s.csv").exists());
+        assert!(!s.path("s.csv").exists() && !s.path("s.svg").exists());
     }
     // Three axes that vary: a cell would hold several runs.
     let output = sweep(&s, &["--vary", "m=1,2", "--plot", "e,x,t_zeno"]);
