@@ -1516,7 +1516,7 @@ impl<'s> Cx<'s> {
                     "look for a division by zero or a square root of 0 in h at the initial state, or start elsewhere",
                 ));
             }
-            if h < 0.0 {
+            if !zenosim::admissible_start(h, &gradient, &initial.q) {
                 return Err(initial_at(
                     format!(
                         "the initial state violates constraint `{}`: h(q0) = {}, but the admissible side is h >= 0",

@@ -283,3 +283,36 @@ fn a_table_with_a_leg_short_by_rounding_rests_on_four() {
         }
     }
 }
+
+/// Regression: the loader refused `h < 0` while the engine allowed the rounding of `h`'s
+/// terms, so a block put exactly on its corner by a formula whose terms round differently from
+/// `h`'s (here `h(q0) = −2.8e-17`) could not be loaded. Both now apply
+/// `zenosim::admissible_start`, relative to the size of `h`'s terms.
+#[test]
+fn a_block_put_on_its_corner_by_formula_loads_as_the_engine_accepts_it() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../models/rocking-block.toml");
+    let source = std::fs::read_to_string(path).unwrap();
+    let source = source
+        .replace(
+            "y = \"b*sin(theta0) + c*cos(theta0)\"",
+            "y = \"c*cos(theta0) + b*sin(theta0)\"",
+        )
+        .replace("theta0 = 0.2", "theta0 = 1.1");
+    let file = parse_model("rocking-block.toml", &source, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let derived = zenosim::Derived::new(&file.model).unwrap();
+    let (h, _) = derived.constraint(0, &file.initial.q);
+    // The case the loader used to refuse: h below 0 by rounding.
+    assert!(h < 0.0 && h > -1e-15, "h = {h}");
+    let (run, _) = file.run_keeping().unwrap();
+    assert_eq!(run.outcome, Outcome::Finished);
+    // Far below the surface by more than rounding is still refused, naming [initial].
+    let below = source.replace(
+        "y = \"c*cos(theta0) + b*sin(theta0)\"",
+        "y = \"c*cos(theta0) + b*sin(theta0) - 1e-9\"",
+    );
+    let error = parse_model("rocking-block.toml", &below, &[]).unwrap_err();
+    assert!(
+        error.to_string().contains("violates constraint `left`"),
+        "{error}"
+    );
+}
