@@ -335,15 +335,20 @@ impl Sweep {
 }
 
 /// Whether a model file accepts `(q, q̇)` as its initial state: the checks `zenosim_model` makes
-/// of `[initial]` (every `h` and its gradient finite, `h ≥ 0`, the energy and the mass matrix
-/// finite, the mass matrix positive definite), for a model without forces or dissipation.
+/// of `[initial]` (every `h` and its gradient finite, `h` admissible by
+/// [`zenosim::admissible_start`], the energy and the mass matrix finite, the mass matrix
+/// positive definite), for a model without forces or dissipation (whose forces it would check
+/// too). They must never accept what the loader refuses: keep them in step with its
+/// `check_initial_state` (a point they refuse is read in full, so being stricter is safe).
 fn file_accepts(model: &FileModel, q: &[f64], q_dot: &[f64]) -> bool {
     let Ok(derived) = Derived::new(model) else {
         return false;
     };
     let admissible = (0..model.constraints().len()).all(|index| {
         let (h, gradient) = derived.constraint(index, q);
-        h.is_finite() && gradient.iter().all(|a| a.is_finite()) && h >= 0.0
+        h.is_finite()
+            && gradient.iter().all(|a| a.is_finite())
+            && zenosim::admissible_start(h, &gradient, q)
     });
     if !admissible {
         return false;
@@ -403,10 +408,10 @@ mod tests {
 
     #[test]
     fn initial_values_run_the_model_read_once_with_the_same_rows() {
-        // The paper's ball over its start: x3 = sin(x2) − 1e-15 is (just) below the surface,
-        // which the model file refuses though the engine would take it; x3 = −0.5 is far below.
+        // The paper's ball over its start: x3 = sin(1) − 1e-15 is within round-off of the
+        // surface at x2 = 1 (admitted), −1e-9 below it is not; x3 = −0.5 is far below.
         let sin = 1.0f64.sin();
-        let x3 = format!("x3={},{},2,-0.5", sin, sin - 1e-15);
+        let x3 = format!("x3={},{},{},2,-0.5", sin, sin - 1e-15, sin - 1e-9);
         let sweep = sweep_of("ball-on-sine", &["x2=1,1.5", &x3, "x1_dot=0,0.5"]);
         assert!(sweep.state_slots.is_some());
         let never = AtomicBool::new(false);
@@ -418,9 +423,9 @@ mod tests {
             assert_eq!(format!("{fast:?}"), format!("{read:?}"), "point {values:?}");
             invalid += usize::from(read.is_err());
         }
-        // Below the surface, for both velocities: at x2 = 1, x3 = sin(1) − 1e-15 and −0.5 (x3 =
-        // sin(1) is on it); at x2 = 1.5 (sin 1.5 > sin 1), all but x3 = 2.
-        assert_eq!(invalid, 10);
+        // Below the surface, for both velocities: at x2 = 1, x3 = sin(1) − 1e-9 and −0.5; at
+        // x2 = 1.5 (sin 1.5 > sin 1), all but x3 = 2.
+        assert_eq!(invalid, 12);
         // A parameter, or a model with forces: every point is read.
         assert!(sweep_of("ball-on-sine", &["g=9,10"]).state_slots.is_none());
         assert!(sweep_of("ball-on-sine", &["g=9", "x3=2"])
