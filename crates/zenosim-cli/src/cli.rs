@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand};
 use zenosim::ZenoStrategy;
 use zenosim_model::Override;
-use zenosim_runs::sweep::{Axis, Shard};
+use zenosim_runs::sweep::{Axis, RunSettings, Shard};
 
 use crate::plot::{Format, MapSpec, Plane};
 
@@ -149,21 +149,9 @@ pub struct SweepArgs {
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub workers: Option<u32>,
 
-    /// The stop time of every run [default: the file's simulation.t_end, else 10].
-    #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = positive)]
-    pub t_end: Option<f64>,
-
-    /// How to pass Zeno points: auto, off or ε, as for `zenosim run` [default: the file's].
-    #[arg(long, value_name = "auto|off|EPS", allow_negative_numbers = true, value_parser = zeno)]
-    pub zeno: Option<ZenoStrategy>,
-
-    /// The relative tolerance [default: the file's simulation.rtol, else 1e-10].
-    #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = positive)]
-    pub rtol: Option<f64>,
-
-    /// The absolute tolerance [default: the file's simulation.atol, else 1e-10].
-    #[arg(long, value_name = "A", allow_negative_numbers = true, value_parser = positive)]
-    pub atol: Option<f64>,
+    /// The settings of every run.
+    #[command(flatten)]
+    pub settings: SettingArgs,
 
     /// Draw a map of QUANTITY (a column: t_zeno, impacts, final_x...) over the varied names X
     /// and Y, beside the file.
@@ -273,23 +261,9 @@ pub struct RunArgs {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 
-    /// The stop time [default: the file's simulation.t_end, else 10].
-    #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = positive)]
-    pub t_end: Option<f64>,
-
-    /// How to pass Zeno points: "auto" (switch once the remaining bounces are below the
-    /// integration tolerance), "off" (stop at the Zeno point, exit 3) or a number ε (the paper's
-    /// rule: switch when |h| ≤ ε and |A q̇| ≤ ε) [default: the file's simulation.zeno, else auto].
-    #[arg(long, value_name = "auto|off|EPS", allow_negative_numbers = true, value_parser = zeno)]
-    pub zeno: Option<ZenoStrategy>,
-
-    /// The relative tolerance [default: the file's simulation.rtol, else 1e-10].
-    #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = positive)]
-    pub rtol: Option<f64>,
-
-    /// The absolute tolerance [default: the file's simulation.atol, else 1e-10].
-    #[arg(long, value_name = "A", allow_negative_numbers = true, value_parser = positive)]
-    pub atol: Option<f64>,
+    /// The run's settings.
+    #[command(flatten)]
+    pub settings: SettingArgs,
 
     /// Sample the trajectory every DT from the dense output instead of at every step
     /// [default: the file's simulation.dt, else every step].
@@ -323,6 +297,42 @@ pub struct RunArgs {
     /// Bounds on the model file's formulas.
     #[command(flatten)]
     pub formulas: FormulaLimits,
+}
+
+/// The settings `run` and `sweep` change on the command line: the stop time, the Zeno strategy
+/// and the tolerances (each by default the file's).
+#[derive(Clone, Copy, Debug, Args)]
+pub struct SettingArgs {
+    /// The stop time [default: the file's simulation.t_end, else 10].
+    #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = positive)]
+    pub t_end: Option<f64>,
+
+    /// How to pass Zeno points: "auto" (switch once the remaining bounces are below the
+    /// integration tolerance), "off" (stop at the Zeno point; `zenosim run` exits 3) or a number
+    /// ε (the paper's rule: switch when |h| ≤ ε and |A q̇| ≤ ε) [default: the file's
+    /// simulation.zeno, else auto].
+    #[arg(long, value_name = "auto|off|EPS", allow_negative_numbers = true, value_parser = zeno)]
+    pub zeno: Option<ZenoStrategy>,
+
+    /// The relative tolerance [default: the file's simulation.rtol, else 1e-10].
+    #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = positive)]
+    pub rtol: Option<f64>,
+
+    /// The absolute tolerance [default: the file's simulation.atol, else 1e-10].
+    #[arg(long, value_name = "A", allow_negative_numbers = true, value_parser = positive)]
+    pub atol: Option<f64>,
+}
+
+impl SettingArgs {
+    /// The changes to the file's settings.
+    pub fn settings(&self) -> RunSettings {
+        RunSettings {
+            t_end: self.t_end,
+            zeno: self.zeno,
+            rtol: self.rtol,
+            atol: self.atol,
+        }
+    }
 }
 
 /// The model file and the changes `--set` makes to it: what `run`, `check` and `bench` read.

@@ -177,19 +177,7 @@ fn write_summary(out: &OutputDir, summary: &Summary<'_>) -> Result<PartialFile, 
 
 /// The file's settings, overridden by the command line's flags.
 fn options(file: &ModelFile, args: &RunArgs) -> SimulationOptions {
-    let mut options = file.options();
-    if let Some(t_end) = args.t_end {
-        options.t_end = t_end;
-    }
-    if let Some(rtol) = args.rtol {
-        options.tolerances.rtol = rtol;
-    }
-    if let Some(atol) = args.atol {
-        options.tolerances.atol = atol;
-    }
-    if let Some(zeno) = args.zeno {
-        options.zeno = zeno;
-    }
+    let mut options = args.settings.settings().apply(file.options());
     if let Some(dt) = args.dt {
         options.output = OutputGrid::Uniform(dt);
     }

@@ -9,7 +9,7 @@ use std::sync::atomic::AtomicBool;
 
 use anyhow::{anyhow, Context};
 use zenosim_runs::message::plural;
-use zenosim_runs::sweep::{Combine, Points, Row, RunSettings, Shard, Sweep};
+use zenosim_runs::sweep::{Combine, Points, Row, Shard, Sweep};
 use zenosim_runs::Status;
 
 use crate::cli::SweepArgs;
@@ -40,12 +40,7 @@ pub fn sweep(args: &SweepArgs) -> Result<u8, Failure> {
     let points = Points::new(args.vary.clone(), combine)
         .map_err(anyhow::Error::from)
         .bad_input()?;
-    let settings = RunSettings {
-        t_end: args.t_end,
-        zeno: args.zeno,
-        rtol: args.rtol,
-        atol: args.atol,
-    };
+    let settings = args.settings.settings();
     let sweep = Sweep::new(&display, &source, args.formulas.limits(), points, settings)
         .map_err(anyhow::Error::from)
         .bad_input()?;
