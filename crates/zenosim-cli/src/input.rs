@@ -20,7 +20,9 @@ pub fn load(path: &Path, overrides: &[Override], limits: Limits) -> anyhow::Resu
         .map_err(|error| anyhow!(error))
 }
 
-fn read_source(path: &Path, display: &str) -> anyhow::Result<String> {
+/// The text of the model file `path` (named `display` in messages): at most
+/// [`MAX_FILE_BYTES`], UTF-8.
+pub fn read_source(path: &Path, display: &str) -> anyhow::Result<String> {
     let file = File::open(path).with_context(|| format!("cannot read the model file {display}"))?;
     let mut bytes = Vec::new();
     file.take(MAX_FILE_BYTES + 1)

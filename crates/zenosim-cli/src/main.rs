@@ -1,7 +1,8 @@
 //! The `zenosim` command: simulate a hybrid Lagrangian written in a model file (`zenosim run`),
 //! check one and print what zenosim derives from it (`zenosim check`), or draw the plots of a
-//! run (`zenosim plot`, or `zenosim run --plot`); time a model's runs (`zenosim bench`) and draw
-//! work–precision diagrams (`zenosim work-precision`).
+//! run (`zenosim plot`, or `zenosim run --plot`); run a model over a grid of parameters or
+//! initial values (`zenosim sweep`, its shards joined by `zenosim merge`); time a model's runs
+//! (`zenosim bench`) and draw work–precision diagrams (`zenosim work-precision`).
 //!
 //! Exit status: 0 finished (or a valid model, or plots drawn), 1 the simulation failed or the
 //! output could not be written, 2 a bad model, a bad run directory or bad arguments, 3 stopped
@@ -12,12 +13,13 @@ mod bench;
 mod check;
 mod cli;
 mod input;
-mod json_layout;
+mod merge;
 mod output;
 mod plot;
 mod progress;
 mod run;
-mod summary;
+mod sweep;
+mod sweep_file;
 mod trajectory;
 
 use std::io::Write;
@@ -66,6 +68,8 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run::run(&args),
+        Command::Sweep(args) => sweep::sweep(&args),
+        Command::Merge(args) => merge::merge(&args),
         Command::Check(args) => check::check(&args),
         Command::Plot(args) => plot::plot(&args),
         Command::Bench(args) => bench::bench(&args),

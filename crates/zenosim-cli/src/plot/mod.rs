@@ -19,6 +19,7 @@ mod scene;
 mod sequences;
 mod style;
 mod svg;
+mod sweep_map;
 mod time_chart;
 mod trajectory_file;
 mod work_precision;
@@ -32,6 +33,7 @@ use anyhow::{anyhow, Context};
 
 pub use canvas::Format;
 pub use style::short;
+pub use sweep_map::{draw_map, MapSpec};
 pub use work_precision::work_precision;
 
 use crate::cli::PlotArgs;
