@@ -88,14 +88,42 @@ fn main() -> ExitCode {
     }
 }
 
-/// Prints `error: <message>` on stderr (ignoring a closed stderr: there is nowhere else to say it).
+/// Prints `error: <message>` on stderr (ignoring a closed stderr: there is nowhere else to say it),
+/// its control characters escaped ([`terminal_safe`]).
 pub fn print_error(message: &str) {
+    let message = terminal_safe(message);
     let _ = writeln!(std::io::stderr().lock(), "error: {message}");
 }
 
-/// Prints a report on stdout (ignoring a closed pipe, as in `zenosim check m.toml | head -1`).
+/// Prints a report on stdout (ignoring a closed pipe, as in `zenosim check m.toml | head -1`),
+/// its control characters escaped ([`terminal_safe`]).
 pub fn print_report(report: &str) {
     let mut stdout = std::io::stdout().lock();
-    let _ = stdout.write_all(report.as_bytes());
+    let _ = stdout.write_all(terminal_safe(report).as_bytes());
     let _ = stdout.flush();
+}
+
+/// `text` with every control character but the newline and the tab written as a Rust escape
+/// (`\u{1b}`): a model's name, a constraint's name or a line of a file quoted in a message
+/// cannot clear the screen, retitle the window or hide text from the reader. The bidirectional
+/// overrides and isolates (U+202A–U+202E, U+2066–U+2069), which reorder what is shown, are
+/// escaped too.
+pub fn terminal_safe(text: &str) -> std::borrow::Cow<'_, str> {
+    let unsafe_char = |c: char| {
+        (c.is_control() && c != '\n' && c != '\t')
+            || ('\u{202a}'..='\u{202e}').contains(&c)
+            || ('\u{2066}'..='\u{2069}').contains(&c)
+    };
+    if !text.chars().any(unsafe_char) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut safe = String::with_capacity(text.len() + 16);
+    for c in text.chars() {
+        if unsafe_char(c) {
+            safe.extend(c.escape_unicode());
+        } else {
+            safe.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(safe)
 }
