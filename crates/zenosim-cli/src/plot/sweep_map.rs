@@ -20,7 +20,7 @@ use plotters_backend::DrawingBackend;
 use zenosim_runs::sweep::{Row, Sweep};
 
 use super::canvas::{render, Drawn, Format, Picture, FONT};
-use super::chart::{axes, legend, note, Entry, Sample};
+use super::chart::{axes, drawable, legend, note, Entry, Sample};
 use super::style::{short, TITLE_SIZE};
 use super::svg::Layer;
 use super::work_precision::write_file;
@@ -234,10 +234,7 @@ impl Picture for Map {
             .margin_right(RIGHT)
             .x_label_area_size(48)
             .y_label_area_size(80)
-            .build_cartesian_2d(
-                self.x_range.0..self.x_range.1,
-                self.y_range.0..self.y_range.1,
-            )?;
+            .build_cartesian_2d(drawable(self.x_range), drawable(self.y_range))?;
         axes(&mut chart, layer, &self.spec.x, &self.spec.y)?;
         for cell in &self.cells {
             let corners = [(cell.x.0, cell.y.0), (cell.x.1, cell.y.1)];
