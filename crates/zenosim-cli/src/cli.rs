@@ -38,11 +38,14 @@ directory; characters of the name other than letters, digits, '-', '_' and '.' b
   summary.json    the outcome, the final state, the Zeno points, the events, the hybrid time
                   domain, the work counters and the constraints' formulas h (non-finite numbers
                   are written as null)
-Each file is written to a temporary name (.<file>.partial) and renamed when complete, at the
-end of the run: until then the previous run's files stay as they were, so a run that is killed
-leaves them untouched (and a hidden .partial file that the next run overwrites). The old
+DIR is locked while the run writes into it: a second zenosim writing into DIR fails at once.
+Each file is written to a temporary name of its own (.<file>.<pid>-<n>.partial, created
+exclusively: never through a symlink) and renamed when complete, at the end of the run: until
+then the previous run's files stay as they were, so a run that is killed leaves them untouched
+(and a hidden .partial file that the next command writing into DIR removes). The old
 summary.json and plots are removed just before the new files are renamed, summary.json last, so
-its presence means the files are complete and belong together.
+its presence means the files are complete and belong together. A write that fails (a full disk)
+stops the run at once.
 With --plot, the plots are drawn from these files once they are complete, as `zenosim plot DIR`
 draws them (see `zenosim plot --help`).
 
@@ -93,7 +96,7 @@ one row per run, in the order of the points (index from 0). status: finished, ze
 none. Numbers in shortest round-trip form, NaN where there is no value. The first line says \
 which sweep (HASH: of the model file and the sweep's axes and settings) and which shard; read \
 the file with pandas as pd.read_csv(path, skiprows=1). It is written to a temporary name \
-(.<file>.partial) and renamed when complete. Ctrl-C kills the sweep: the file is not written \
+(.<file>.<pid>-<n>.partial) and renamed when complete. Ctrl-C kills the sweep: the file is not written \
 (the previous one stays as it was).
 
 --shard K/N runs the points i with i % N = K - 1 (interleaved, so that the shards take \

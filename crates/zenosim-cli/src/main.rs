@@ -65,6 +65,14 @@ impl<T> Classify<T> for anyhow::Result<T> {
 }
 
 fn main() -> ExitCode {
+    // A write past a file-size limit (RLIMIT_FSIZE) fails with EFBIG, reported as a write error
+    // that stops the run at once, like a full disk, instead of killing the process with SIGXFSZ
+    // and losing what was computed.
+    #[cfg(unix)]
+    // SAFETY: `signal` with SIG_IGN installs no handler; it runs before any other thread exists.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run::run(&args),

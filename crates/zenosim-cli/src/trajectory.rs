@@ -151,6 +151,12 @@ impl<W: io::Write> Observer for TrajectoryWriter<W> {
     }
 
     fn event(&mut self, _event: &Event) {}
+
+    /// A write failed (a full disk): the run stops at once, its record kept, instead of
+    /// simulating to the end for rows that cannot be written.
+    fn interrupted(&mut self) -> bool {
+        self.error.is_some()
+    }
 }
 
 #[cfg(test)]

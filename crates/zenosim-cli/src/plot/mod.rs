@@ -130,7 +130,7 @@ pub fn draw(dir: &Path, format: Format, plane: Option<&Plane>) -> Result<Vec<Pat
     };
     let scene = Scene::load(&dir.join(TRAJECTORY), record, columns).bad_input()?;
 
-    let out = OutputDir::existing(dir);
+    let out = OutputDir::existing(dir).output()?;
     let mut written = Vec::new();
     let mut write = |name: &str, bytes: anyhow::Result<Vec<u8>>| {
         let (partial, mut file) = out
