@@ -45,13 +45,15 @@ then the previous run's files stay as they were, so a run that is killed leaves 
 (and a hidden .partial file that the next command writing into DIR removes). The old
 summary.json and plots are removed just before the new files are renamed, summary.json last, so
 its presence means the files are complete and belong together. A write that fails (a full disk)
-stops the run at once.
+stops the run at once. Ctrl-C (SIGINT) or SIGTERM stops the run at its next step and writes
+everything computed up to there, status \"interrupted\", exit status 130 (143 for SIGTERM); a
+second Ctrl-C stops at once, leaving the previous results as they were and no temporary file.
 With --plot, the plots are drawn from these files once they are complete, as `zenosim plot DIR`
 draws them (see `zenosim plot --help`).
 
 Exit status: 0 finished; 1 the simulation failed (the files are still completed, status
 \"failed\") or the output could not be written; 2 a bad model or bad arguments (nothing is
-written); 3 the run stopped at a Zeno point (--zeno off)."
+written); 3 the run stopped at a Zeno point (--zeno off); 130 (143) interrupted by Ctrl-C (SIGTERM)."
     )]
     Run(RunArgs),
     /// Draw the plots of a run from its output directory (summary.json and trajectory.csv).
@@ -96,8 +98,9 @@ one row per run, in the order of the points (index from 0). status: finished, ze
 none. Numbers in shortest round-trip form, NaN where there is no value. The first line says \
 which sweep (HASH: of the model file and the sweep's axes and settings) and which shard; read \
 the file with pandas as pd.read_csv(path, skiprows=1). It is written to a temporary name \
-(.<file>.<pid>-<n>.partial) and renamed when complete. Ctrl-C kills the sweep: the file is not written \
-(the previous one stays as it was).
+(.<file>.<pid>-<n>.partial) and renamed when complete. Ctrl-C (or SIGTERM) stops the runs \
+under way and writes the rows done, exit status 130 (143); a second Ctrl-C stops at once, \
+writing nothing (the previous file stays as it was).
 
 --shard K/N runs the points i with i % N = K - 1 (interleaved, so that the shards take \
 similar times): one part per job of a cluster's array (Slurm, Kubernetes indexed Jobs); \

@@ -18,6 +18,7 @@ mod output;
 mod plot;
 mod progress;
 mod run;
+mod signals;
 mod sweep;
 mod sweep_file;
 mod trajectory;

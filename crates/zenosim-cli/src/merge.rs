@@ -146,6 +146,30 @@ fn open(paths: &[std::path::PathBuf]) -> anyhow::Result<Vec<Part>> {
         }
     }
     let (sweep, model) = (one.sweep, one.model.clone());
+    // The missing shards, found without a slot per shard (the count comes from the files,
+    // which may lie): at most parts.len() + 10 numbers are looked at.
+    let given: std::collections::HashSet<usize> =
+        parts.iter().map(|p| p.identity.shard.number()).collect();
+    let mut missing: Vec<String> = (1..=count)
+        .filter(|k| !given.contains(k))
+        .take(11)
+        .map(|k| format!("{k}/{count}"))
+        .collect();
+    if missing.len() > 10 {
+        missing.truncate(10);
+        missing.push("…".to_string());
+    }
+    if !missing.is_empty() {
+        return Err(anyhow!(
+            "shard{s} {} of the sweep {sweep:016x} ({model}) {are} missing: run {them} with \
+             `zenosim sweep ... --shard K/{count}` and give {their} file{s} too",
+            missing.join(", "),
+            s = if missing.len() == 1 { "" } else { "s" },
+            are = if missing.len() == 1 { "is" } else { "are" },
+            them = if missing.len() == 1 { "it" } else { "them" },
+            their = if missing.len() == 1 { "its" } else { "their" },
+        ));
+    }
     let mut slots: Vec<Option<Part>> = (0..count).map(|_| None).collect();
     for part in parts {
         let k = part.identity.shard.number() - 1;
@@ -158,23 +182,6 @@ fn open(paths: &[std::path::PathBuf]) -> anyhow::Result<Vec<Part>> {
             ));
         }
         slots[k] = Some(part);
-    }
-    let missing: Vec<String> = slots
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| s.is_none())
-        .map(|(k, _)| format!("{}/{count}", k + 1))
-        .collect();
-    if !missing.is_empty() {
-        return Err(anyhow!(
-            "shard{s} {} of the sweep {sweep:016x} ({model}) {are} missing: run {them} with \
-             `zenosim sweep ... --shard K/{count}` and give {their} file{s} too",
-            missing.join(", "),
-            s = if missing.len() == 1 { "" } else { "s" },
-            are = if missing.len() == 1 { "is" } else { "are" },
-            them = if missing.len() == 1 { "it" } else { "them" },
-            their = if missing.len() == 1 { "its" } else { "their" },
-        ));
     }
     Ok(slots.into_iter().flatten().collect())
 }

@@ -20,6 +20,8 @@ use std::sync::{Arc, Mutex, Weak};
 
 use anyhow::{anyhow, Context};
 
+use crate::signals;
+
 /// The directory a command writes to, locked while it exists.
 pub struct OutputDir {
     dir: PathBuf,
@@ -101,6 +103,7 @@ impl OutputDir {
         };
         Ok((
             PartialFile {
+                registered: signals::register(&partial),
                 partial,
                 target,
                 dir: Arc::clone(&self.lock),
@@ -175,6 +178,10 @@ pub struct PartialFile {
     /// The directory's lock, held until the file is renamed (and synced there).
     dir: Arc<DirLock>,
     committed: bool,
+    /// For a second Ctrl-C, which removes the file at once ([`signals`]); unregistered when
+    /// the file is dropped, after [`Drop`] has removed it or it was renamed.
+    #[allow(dead_code)]
+    registered: signals::Registered,
 }
 
 impl PartialFile {

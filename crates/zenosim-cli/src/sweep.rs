@@ -5,7 +5,6 @@
 use std::fmt::Write as _;
 use std::io::BufWriter;
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
 
 use anyhow::{anyhow, Context};
 use zenosim_runs::message::plural;
@@ -18,11 +17,14 @@ use crate::output::OutputDir;
 use crate::plot::{self, MapSpec};
 use crate::progress::RunsDone;
 use crate::run::default_dir;
+use crate::signals;
 use crate::sweep_file::{self, Identity};
 use crate::{print_error, print_report, Classify, Failure, EXIT_FAILED, EXIT_OK};
 
 /// `zenosim sweep MODEL --vary ...`.
 pub fn sweep(args: &SweepArgs) -> Result<u8, Failure> {
+    // Ctrl-C and SIGTERM stop the run(s) at the next step, keeping what was computed.
+    signals::install();
     // Everything is checked before anything runs or is written.
     if args.plot.is_none() && args.format.is_some() {
         return Err(anyhow!(
@@ -64,19 +66,30 @@ pub fn sweep(args: &SweepArgs) -> Result<u8, Failure> {
         .bad_input();
     }
 
+    sweep
+        .check_runs(shard)
+        .map_err(anyhow::Error::from)
+        .bad_input()?;
+    // The output is opened (and its folder locked) before the runs: a bad --out is said at
+    // once, not after hours of runs.
+    let out = OutputDir::prepare(&dir).output()?;
+    let (partial, file) = out.create(&name).output()?;
+    let target = partial.target().to_path_buf();
+
     let total = shard.len_of(sweep.points().len());
     let bar = RunsDone::new(total);
-    let never = AtomicBool::new(false);
     let workers = args.workers.map(|w| w as usize);
     let table = sweep
-        .run(shard, workers, |done, _| bar.set(done), &never)
+        .run(
+            shard,
+            workers,
+            |done, _| bar.set(done),
+            &signals::INTERRUPTED,
+        )
         .map_err(|e| anyhow!(e))
         .output()?;
     bar.finish();
 
-    let out = OutputDir::prepare(&dir).output()?;
-    let (partial, file) = out.create(&name).output()?;
-    let target = partial.target().to_path_buf();
     let identity = Identity::of(&sweep, shard);
     let file = sweep_file::write(BufWriter::new(file), &identity, &columns, &table.rows)
         .and_then(|w| w.into_inner().map_err(|e| e.into_error()))
@@ -108,7 +121,16 @@ pub fn sweep(args: &SweepArgs) -> Result<u8, Failure> {
             plural(invalid, "point")
         ));
     }
-    let code = if not_done.is_empty() {
+    let code = if let (true, Some(signal)) = (table.interrupted, signals::received()) {
+        print_error(&format!(
+            "the sweep was interrupted by {} after {} of {}: the rows done are in {}",
+            signals::name(signal),
+            plural(table.rows.len(), "run"),
+            table.total,
+            path.display()
+        ));
+        signals::exit_status(signal)
+    } else if not_done.is_empty() {
         EXIT_OK
     } else {
         print_error(&format!(

@@ -13,7 +13,7 @@
 //! there is no value (pandas reads it as NaN: `pd.read_csv(path, skiprows=1)`).
 
 use std::fs::File;
-use std::io::{self, BufRead, BufReader, Read, Write};
+use std::io::{self, BufRead, BufReader, Read, Seek, Write};
 use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, Context};
@@ -211,7 +211,21 @@ impl Part {
     /// Opens `path` and reads its first line and header; every error names the file.
     pub fn open(path: &Path) -> anyhow::Result<Self> {
         let display = path.display();
-        let file = File::open(path).with_context(|| format!("cannot read {display}"))?;
+        let mut file = File::open(path).with_context(|| format!("cannot read {display}"))?;
+        // Every row ends with a newline: a file that does not was cut short (a copy that did not
+        // finish), and its last row may be cut inside a field.
+        let ends_in_newline = file.seek(io::SeekFrom::End(-1)).is_ok() && {
+            let mut last = [0u8];
+            file.read_exact(&mut last).is_ok() && last[0] == b'\n'
+        };
+        if !ends_in_newline {
+            return Err(anyhow!(
+                "{display}: does not end with a newline: the file is cut short (a copy or a run \
+                 that did not finish); write it again"
+            ));
+        }
+        file.seek(io::SeekFrom::Start(0))
+            .with_context(|| format!("cannot read {display}"))?;
         let mut reader = BufReader::new(file);
         let mut first = String::new();
         (&mut reader)

@@ -602,3 +602,76 @@ fn a_killed_run_leaves_the_previous_results_as_they_were() {
     assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
     assert_eq!(summary(&out)["final"]["t"], 0.2);
 }
+
+/// Sends `signal` (`INT`, `TERM`) to `child`.
+#[cfg(unix)]
+fn send(child: &std::process::Child, signal: &str) {
+    let status = std::process::Command::new("kill")
+        .args([&format!("-{signal}"), &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+}
+
+/// `child`'s exit code, waiting at most a minute.
+fn exit_within_a_minute(child: &mut std::process::Child) -> Option<i32> {
+    let started = std::time::Instant::now();
+    while started.elapsed().as_secs() < 60 {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status.code();
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    child.kill().unwrap();
+    None
+}
+
+/// Regression: Ctrl-C killed the run with no message and no summary.json, leaving a hidden
+/// truncated temporary file. SIGINT and SIGTERM now stop the run at its next step and write
+/// everything computed, status "interrupted", exit status 128 + the signal.
+#[cfg(unix)]
+#[test]
+fn sigint_and_sigterm_keep_the_run_computed_so_far() {
+    for (signal, code) in [("INT", 130), ("TERM", 143)] {
+        let scratch = Scratch::new(BALL);
+        assert_exit(&scratch.run(&["--t-end", "0.3"]), 0);
+        let mut child = start_long_run(&scratch);
+        send(&child, signal);
+        assert_eq!(exit_within_a_minute(&mut child), Some(code), "SIG{signal}");
+        let out = scratch.path("out");
+        assert_eq!(
+            files(&out),
+            ["summary.json", "trajectory.csv"],
+            "SIG{signal}"
+        );
+        let s = summary(&out);
+        assert_eq!(s["status"], "interrupted");
+        let t = s["final"]["t"].as_f64().unwrap();
+        assert!(t > 0.3 && t < 1e4, "t = {t}");
+        let csv = Csv::read(&out.join("trajectory.csv"));
+        assert_eq!(
+            csv.rows.len() as u64,
+            s["trajectory"]["rows"].as_u64().unwrap()
+        );
+        assert_eq!(csv.rows.last().unwrap().t, t);
+    }
+}
+
+/// A second Ctrl-C stops at once: the previous results stay as they were, or the interrupted
+/// run's are complete, and no temporary file is left either way.
+#[cfg(unix)]
+#[test]
+fn a_second_sigint_stops_at_once_leaving_no_temporary_file() {
+    let scratch = Scratch::new(BALL);
+    assert_exit(&scratch.run(&["--t-end", "0.3"]), 0);
+    let out = scratch.path("out");
+    let old_summary = std::fs::read(out.join("summary.json")).unwrap();
+    let mut child = start_long_run(&scratch);
+    send(&child, "INT");
+    send(&child, "INT");
+    assert_eq!(exit_within_a_minute(&mut child), Some(130));
+    assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
+    let s = summary(&out);
+    let now = std::fs::read(out.join("summary.json")).unwrap();
+    assert!(now == old_summary || s["status"] == "interrupted");
+}

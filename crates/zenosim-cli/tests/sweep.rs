@@ -278,7 +278,10 @@ fn bad_axes_are_named_and_nothing_is_written() {
     for (vary, why) in [
         ("e", "`e`: there is no `=`"),
         ("e=0.1:0.9", "three parts START:STOP:COUNT, not 2"),
-        ("e=0.1:0.9:0", "the count `0` is not a whole number ≥ 1"),
+        (
+            "e=0.1:0.9:0",
+            "the count `0` is not a whole number from 1 to",
+        ),
         ("e=0.1,abc", "`abc` is not a number"),
         (
             "restitution=0.5",
@@ -389,4 +392,132 @@ fn settings_reach_every_run() {
         "{:?}",
         rows[0]
     );
+}
+
+/// Ctrl-C stops a sweep: the runs under way stop at their next step, the rows done are written
+/// (status `interrupted` for the stopped ones), and the exit status is 130. The file says how
+/// many points the sweep has, so `zenosim merge` refuses it as incomplete.
+#[cfg(unix)]
+#[test]
+fn sigint_stops_a_sweep_and_writes_the_rows_done() {
+    // 4000 runs of an elastic ball (e = 1: it bounces for ever) to t = 1e4, about 10⁴ impacts
+    // each: minutes of work.
+    let scratch = Scratch::new(&BALL.replace("e = 0.5", "e = 1.0"));
+    let mut child = std::process::Command::new(binary())
+        .args([
+            "sweep",
+            "model.toml",
+            "--vary",
+            "x=1:2:4000",
+            "--t-end",
+            "1e4",
+        ])
+        .args(["--out", "s.csv", "--workers", "2"])
+        .current_dir(scratch.dir.path())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the sweep ended before the signal"
+    );
+    let status = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let output = child.wait_with_output().unwrap();
+    assert_eq!(output.status.code(), Some(130));
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert!(err.contains("interrupted by SIGINT"), "{err}");
+    let text = read(&scratch.path("s.csv"));
+    assert!(text.starts_with("# zenosim sweep v1") && text.contains("points=4000"));
+    let done = rows(&text);
+    assert!(!done.is_empty() && done.len() < 4000, "{} rows", done.len());
+    let merged = scratch.zenosim(&["merge", "s.csv", "--out", "m.csv"]);
+    assert_exit(&merged, 2);
+}
+
+/// Regressions from review: counts that allocate without bound (an axis of 10¹⁴ values, a
+/// product of 10¹⁰ runs in one process, a part claiming 10¹¹ shards) were aborts; a part cut
+/// inside its last row merged (exit 0); a bad --out was found only after every run; a map of
+/// values near 1.8e308 never finished drawing.
+#[test]
+fn hostile_sizes_truncated_parts_and_bad_outputs_are_refused_at_once() {
+    let s = Scratch::new(BALL);
+    let huge = s.zenosim(&["sweep", "model.toml", "--vary", "e=0:1:100000000000000"]);
+    assert_exit(&huge, 2);
+    assert!(
+        stderr(&huge).contains("from 1 to 10000000"),
+        "{}",
+        stderr(&huge)
+    );
+    let product = [
+        "sweep",
+        "model.toml",
+        "--vary",
+        "e=0:1:100000",
+        "--vary",
+        "x=1:2:100000",
+    ];
+    let product = s.zenosim(&product);
+    assert_exit(&product, 2);
+    assert!(
+        stderr(&product).contains("--shard K/5000"),
+        "{}",
+        stderr(&product)
+    );
+
+    // The output is opened before the runs: an elastic ball (it never rests) to t = 1e6 from
+    // 1000 heights would run for hours.
+    let elastic = Scratch::new(&BALL.replace("e = 0.5", "e = 1.0"));
+    let args = [
+        "sweep",
+        "model.toml",
+        "--vary",
+        "x=1:2:1000",
+        "--t-end",
+        "1e6",
+    ];
+    let plain = elastic.path("plain");
+    std::fs::write(&plain, "").unwrap();
+    let under_a_file = elastic.zenosim(&[&args[..], &["--out", "plain/s.csv"]].concat());
+    assert_exit(&under_a_file, 1);
+    assert!(
+        stderr(&under_a_file).contains("plain"),
+        "{}",
+        stderr(&under_a_file)
+    );
+
+    // Parts: cut inside the last row (its newline gone), and a first line claiming 10¹¹ shards.
+    for k in 1..=2 {
+        let (shard, out) = (format!("{k}/2"), format!("p{k}.csv"));
+        assert_exit(&sweep(&s, &["--shard", &shard, "--out", &out]), 0);
+    }
+    let text = read(&s.path("p2.csv"));
+    std::fs::write(s.path("cut.csv"), &text[..text.len() - 5]).unwrap();
+    let cut = s.zenosim(&["merge", "p1.csv", "cut.csv", "--out", "m.csv"]);
+    assert_exit(&cut, 2);
+    assert!(stderr(&cut).contains("cut.csv: does not end with a newline"));
+    let liar = read(&s.path("p1.csv")).replacen("shard=1/2", "shard=1/100000000000", 1);
+    std::fs::write(s.path("liar.csv"), liar).unwrap();
+    let liar = s.zenosim(&["merge", "liar.csv", "--out", "m.csv"]);
+    assert_exit(&liar, 2);
+    assert!(stderr(&liar).contains("missing"), "{}", stderr(&liar));
+    assert!(!s.path("m.csv").exists());
+
+    // A map over values near f64's limit ends (the runs from 1.7e308 are invalid: no value).
+    let map = [
+        "--vary",
+        "x=1.7e308",
+        "--vary",
+        "e=0.5,0.6",
+        "--plot",
+        "e,x,t_zeno",
+    ];
+    let map = s.zenosim(&[&["sweep", "model.toml"][..], &map, &["--out", "y.csv"]].concat());
+    assert!(map.status.code().is_some());
+    assert!(s.path("y.svg").exists());
 }

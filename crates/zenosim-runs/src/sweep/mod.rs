@@ -45,6 +45,10 @@ pub use settings::RunSettings;
 pub use shard::Shard;
 
 use crate::summary::constraint_names;
+
+/// The most runs of one process (one shard): their rows, about 500 bytes each, are held until
+/// the table is complete (1 GB at most).
+pub const MAX_RUNS: usize = 2_000_000;
 use crate::Status;
 
 /// A sweep over a model file: its points, and the settings of every run.
@@ -280,6 +284,21 @@ impl Sweep {
         Ok(Row::of(index, values.to_vec(), &run, &self.constraints))
     }
 
+    /// Whether `shard` of this sweep fits in one process: at most [`MAX_RUNS`] runs, whose rows
+    /// are held until the table is complete. Checked by [`Sweep::run`] before anything runs.
+    pub fn check_runs(&self, shard: Shard) -> Result<(), SweepError> {
+        let runs = shard.len_of(self.points.len());
+        if runs > MAX_RUNS {
+            let shards = self.points.len().div_ceil(MAX_RUNS).max(shard.count() + 1);
+            return Err(SweepError::TooManyRuns {
+                runs,
+                max: MAX_RUNS,
+                shards,
+            });
+        }
+        Ok(())
+    }
+
     /// Runs the points of `shard` on `workers` threads (`None`: one per core, rayon's global
     /// pool), and returns their rows in point order, however they were scheduled.
     /// `progress(done, total)` is called from the worker threads as each row completes. Once
@@ -295,6 +314,7 @@ impl Sweep {
     where
         P: Fn(usize, usize) + Sync,
     {
+        self.check_runs(shard)?;
         let indices: Vec<usize> = shard.indices(self.points.len()).collect();
         let total = indices.len();
         let done = AtomicUsize::new(0);
