@@ -316,3 +316,40 @@ fn a_block_put_on_its_corner_by_formula_loads_as_the_engine_accepts_it() {
         "{error}"
     );
 }
+
+/// Regression: a constraint that touches 0 without changing sign passed silently: with
+/// `h = y²` the ball fell 40 m "through the floor", and so did one inside a ring written
+/// `(x² + y² − 1)²`, both with exit 0. A close approach without a crossing where `∂h/∂q`
+/// vanishes is now the error an impact there gives, at the time of the touch: the free fall's
+/// closed form `t = √(2 d/g)` for the drop `d` to the surface.
+#[test]
+fn a_constraint_that_touches_zero_without_changing_sign_is_an_error_where_it_touches() {
+    let g = 9.81;
+    let cases = [
+        (
+            "coordinates = [\"y\"]\nlagrangian = \"0.5*y_dot^2 - 9.81*y\"\n\
+             [[constraint]]\nname = \"floor\"\nh = \"y^2\"\nrestitution = 0.5\n\
+             [initial]\ny = 1.0\n",
+            1.0,
+        ),
+        (
+            "coordinates = [\"x\", \"y\"]\nlagrangian = \"0.5*(x_dot^2 + y_dot^2) - 9.81*y\"\n\
+             [[constraint]]\nname = \"ring\"\nh = \"(x^2 + y^2 - 1)^2\"\nrestitution = 0.5\n\
+             [initial]\nx = 0.1\n",
+            (1.0_f64 - 0.01).sqrt(),
+        ),
+    ];
+    for (body, drop) in cases {
+        let source = format!("name = \"touch\"\n{body}[simulation]\nt_end = 2.0\n");
+        let file = parse_model("touch.toml", &source, &[]).unwrap_or_else(|e| panic!("{e}"));
+        let (run, _) = file.run_keeping().unwrap();
+        let touch = (2.0 * drop / g).sqrt();
+        match &run.outcome {
+            Outcome::Failed(zenosim::Error::DegenerateConstraint { t, .. }) => {
+                assert!((t - touch).abs() < 1e-6, "t = {t}, touch at {touch}");
+            }
+            other => panic!("{other:?}: passed through the surface"),
+        }
+        assert!(run.t_final < touch + 1e-6);
+    }
+}
