@@ -59,15 +59,30 @@ pub(crate) fn time_resolution(t: f64) -> f64 {
 pub fn first_crossing(
     t0: f64,
     t1: f64,
-    mut g: impl FnMut(f64) -> (f64, Option<f64>),
+    g: impl FnMut(f64) -> (f64, Option<f64>),
 ) -> Option<Crossing> {
+    first_crossing_or_touch(t0, t1, g).0
+}
+
+/// [`first_crossing`], and where there is none, the lowest point of a dip that came within
+/// `10⁻⁶` of the guard's size to 0 without crossing it, if any: `(t, g(t))`. A regular surface
+/// merely grazed gives one; so does a guard that touches 0 without changing sign (`h = y²`),
+/// which the caller tells apart by its gradient there.
+pub(crate) fn first_crossing_or_touch(
+    t0: f64,
+    t1: f64,
+    mut g: impl FnMut(f64) -> (f64, Option<f64>),
+) -> (Option<Crossing>, Option<(f64, f64)>) {
     if t1 <= t0 || t0.is_nan() || t1.is_nan() {
-        return None;
+        return (None, None);
     }
     let n = SAMPLES_PER_STEP;
     let mut prev_t = t0;
     let mut prev = g(t0);
-    let mut budget = REFINE_BUDGET;
+    let mut search = Search {
+        budget: REFINE_BUDGET,
+        touch: None,
+    };
     for k in 1..=n {
         let t = if k == n {
             t1
@@ -76,15 +91,34 @@ pub fn first_crossing(
         };
         let cur = g(t);
         if cur.0 <= 0.0 || cur.0.is_nan() {
-            return Some(first_in(prev_t, prev, t, cur, &mut g, &mut budget));
+            return (
+                Some(first_in(prev_t, prev, t, cur, &mut g, &mut search)),
+                None,
+            );
         }
-        if let Some(crossing) = between(prev_t, prev, t, cur, &mut g, &mut budget) {
-            return Some(crossing);
+        if let Some(crossing) = between(prev_t, prev, t, cur, &mut g, &mut search) {
+            return (Some(crossing), None);
         }
         prev_t = t;
         prev = cur;
     }
-    None
+    (None, search.touch)
+}
+
+/// What a search of one step carries: the evaluations of `g` it may still spend refining, and
+/// the closest approach to 0 of a dip without a crossing.
+struct Search {
+    budget: usize,
+    touch: Option<(f64, f64)>,
+}
+
+impl Search {
+    /// A dip of `g` to `value` at `t`, not below 0, between samples of size up to `size`.
+    fn dipped(&mut self, t: f64, value: f64, size: f64) {
+        if value <= 1e-6 * size && self.touch.is_none_or(|(_, lowest)| value < lowest) {
+            self.touch = Some((t, value));
+        }
+    }
 }
 
 /// The first crossing between two samples `a` and `b` where `g` is positive (or `a` is the
@@ -102,14 +136,15 @@ fn between(
     b: f64,
     gb: (f64, Option<f64>),
     g: &mut impl FnMut(f64) -> (f64, Option<f64>),
-    budget: &mut usize,
+    search: &mut Search,
 ) -> Option<Crossing> {
     let (Some(da), Some(db)) = (ga.1, gb.1) else {
         return None;
     };
     if da < 0.0 && db > 0.0 && ga.0 > 0.0 {
-        if let Some(crossing) = dip(a, b, g) {
-            return Some(crossing);
+        match dip(a, b, g) {
+            Ok(crossing) => return Some(crossing),
+            Err((t, value)) => search.dipped(t, value, ga.0.max(gb.0)),
         }
     }
     let width = b - a;
@@ -126,20 +161,20 @@ fn between(
     let rise = da * width;
     let leaving = rise >= 1e-3 * scale && rise >= 1e3 * ga.0.abs();
     let on_surface = ga.0 <= 1e-9 * scale && !leaving;
-    if on_surface || *budget == 0 || width <= time_resolution(b) {
+    if on_surface || search.budget == 0 || width <= time_resolution(b) {
         return None;
     }
-    *budget -= 1;
+    search.budget -= 1;
     let m = a + 0.5 * width;
     let gm = g(m);
     if gm.0 <= 0.0 || gm.0.is_nan() {
-        return Some(first_in(a, ga, m, gm, g, budget));
+        return Some(first_in(a, ga, m, gm, g, search));
     }
     let fit = Fit::new(ga.0, gb.0, da * width, db * width, gm.0);
     if fit.clear_up_to(1.0, time_resolution(b) / width) {
         return None;
     }
-    between(a, ga, m, gm, g, budget).or_else(|| between(m, gm, b, gb, g, budget))
+    between(a, ga, m, gm, g, search).or_else(|| between(m, gm, b, gb, g, search))
 }
 
 /// The first crossing in `(a, b]`, where `g(a) > 0 ≥ g(b)` (or `a` is the step's start,
@@ -158,7 +193,7 @@ fn first_in(
     b: f64,
     gb: (f64, Option<f64>),
     g: &mut impl FnMut(f64) -> (f64, Option<f64>),
-    budget: &mut usize,
+    search: &mut Search,
 ) -> Crossing {
     let width = b - a;
     let (Some(da), Some(db)) = (ga.1, gb.1) else {
@@ -166,14 +201,14 @@ fn first_in(
     };
     // As in `between`: near a start on the surface the guard is rounding noise.
     let on_surface = ga.0 <= 1e-9 * (ga.0 - gb.0 + width * db.abs());
-    if on_surface || *budget == 0 || width <= time_resolution(b) {
+    if on_surface || search.budget == 0 || width <= time_resolution(b) {
         return bracket(a, ga, b, gb, g);
     }
-    *budget -= 1;
+    search.budget -= 1;
     let m = a + 0.5 * width;
     let gm = g(m);
     if gm.0 <= 0.0 || gm.0.is_nan() {
-        return first_in(a, ga, m, gm, g, budget);
+        return first_in(a, ga, m, gm, g, search);
     }
     let fit = Fit::new(ga.0, gb.0, da * width, db * width, gm.0);
     if fit.clear_up_to(0.5, time_resolution(b) / width) {
@@ -181,14 +216,14 @@ fn first_in(
         return if fit.monotone_from(0.5) {
             bracket(m, gm, b, gb, g)
         } else {
-            first_in(m, gm, b, gb, g, budget)
+            first_in(m, gm, b, gb, g, search)
         };
     }
-    match between(a, ga, m, gm, g, budget) {
+    match between(a, ga, m, gm, g, search) {
         Some(crossing) => crossing,
         // Out of evaluations before the first half was shown clear: any crossing in (a, b].
-        None if *budget == 0 => bracket(a, ga, b, gb, g),
-        None => first_in(m, gm, b, gb, g, budget),
+        None if search.budget == 0 => bracket(a, ga, b, gb, g),
+        None => first_in(m, gm, b, gb, g, search),
     }
 }
 
@@ -340,8 +375,12 @@ fn cubic_minimum(p0: f64, p1: f64, m0: f64, m1: f64) -> Option<f64> {
 }
 
 /// Locates the minimum of `g` between `a` (`ġ < 0`) and `b` (`ġ > 0`) and brackets a crossing
-/// before it if the minimum is `≤ 0`.
-fn dip(a: f64, b: f64, g: &mut impl FnMut(f64) -> (f64, Option<f64>)) -> Option<Crossing> {
+/// before it if the minimum is `≤ 0`; else the minimum found, `(t, g(t))`.
+fn dip(
+    a: f64,
+    b: f64,
+    g: &mut impl FnMut(f64) -> (f64, Option<f64>),
+) -> Result<Crossing, (f64, f64)> {
     let (mut lo, mut hi) = (a, b);
     for _ in 0..200 {
         if hi - lo <= time_resolution(hi) {
@@ -350,7 +389,7 @@ fn dip(a: f64, b: f64, g: &mut impl FnMut(f64) -> (f64, Option<f64>)) -> Option<
         let mid = 0.5 * (lo + hi);
         let (value, slope) = g(mid);
         if value <= 0.0 {
-            return Some(bracket(a, g(a), mid, (value, slope), g));
+            return Ok(bracket(a, g(a), mid, (value, slope), g));
         }
         match slope {
             Some(s) if s < 0.0 => lo = mid,
@@ -358,7 +397,11 @@ fn dip(a: f64, b: f64, g: &mut impl FnMut(f64) -> (f64, Option<f64>)) -> Option<
         }
     }
     let last = g(hi);
-    (last.0 <= 0.0).then(|| bracket(a, g(a), hi, last, g))
+    if last.0 <= 0.0 {
+        Ok(bracket(a, g(a), hi, last, g))
+    } else {
+        Err((hi, last.0))
+    }
 }
 
 /// Narrows `[a, b]` with `gb = g(b) ≤ 0` to a crossing at round-off width. If `g(a) ≤ 0` too (a

@@ -5,7 +5,7 @@ use super::equations::project_onto;
 use super::{interpolate, Next, Runner};
 use crate::derivatives::guard_along;
 use crate::error::Error;
-use crate::events::{first_crossing, time_resolution};
+use crate::events::{first_crossing_or_touch, time_resolution};
 use crate::execution::ActiveSet;
 use crate::integrator::Tolerances;
 use crate::mechanics::{guard_scale, Normal};
@@ -246,30 +246,23 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         for index in (0..m).filter(|&i| !held.contains(i)) {
             let (stepper, mech, n) = (&self.stepper, self.mech, self.n);
             let mut y = std::mem::take(&mut self.scratch);
-            // The guard's lowest and highest values seen: a close approach without a crossing
-            // may be a constraint that touches 0 without changing sign ([`Runner::touched`]).
-            let (mut lowest, mut highest) = ((f64::INFINITY, t0), 0.0_f64);
-            let crossing = first_crossing(t0, t1, |t| {
+            // A close approach without a crossing may be a constraint that touches 0 without
+            // changing sign ([`Runner::touched`]).
+            let (crossing, touch) = first_crossing_or_touch(t0, t1, |t| {
                 interpolate(stepper, cubic, t, &mut y);
                 // Best effort: a failed projection just leaves the sample as it is.
                 let _ = project_onto(&mech, held, t, n, &mut y);
                 let (h, h_dot, _) = guard_along(mech.model(), index, t, &y[..n], &y[n..]);
-                if h < lowest.0 {
-                    lowest = (h, t);
-                }
-                highest = highest.max(h);
                 (h, Some(h_dot))
             });
             self.scratch = y;
-            match crossing {
-                Some(c) => {
-                    let t = c.t_admissible;
-                    if found.is_none_or(|(_, t_other)| t < t_other) {
-                        found = Some((index, t));
-                    }
+            if let Some(c) = crossing {
+                let t = c.t_admissible;
+                if found.is_none_or(|(_, t_other)| t < t_other) {
+                    found = Some((index, t));
                 }
-                None if lowest.0 <= 1e-6 * highest => self.touched(index, lowest.1, held)?,
-                None => {}
+            } else if let Some((t, _)) = touch {
+                self.touched(index, t, held)?;
             }
         }
         Ok(found)
