@@ -11,16 +11,17 @@ use anyhow::anyhow;
 use serde::Serialize;
 use zenosim::{Execution, HybridLagrangian, Outcome, Simulation, SimulationOptions};
 use zenosim_model::ModelFile;
+use zenosim_runs::json_layout;
+use zenosim_runs::message::{message, plural};
+use zenosim_runs::number::number;
+use zenosim_runs::summary::{
+    constraint_names, status, FinalJson, Pairs, Record, SettingsJson, StateJson, StatsJson,
+    TrajectoryJson, ZenoJson,
+};
 
 use crate::cli::BenchArgs;
-use crate::run::{constraint_names, plural};
-use crate::summary::{
-    status, FinalJson, Pairs, Record, SettingsJson, StateJson, StatsJson, TrajectoryJson, ZenoJson,
-};
-use crate::trajectory::number;
 use crate::{
-    json_layout, print_error, print_report, Classify, Failure, EXIT_FAILED, EXIT_OK,
-    EXIT_ZENO_STALLED,
+    print_error, print_report, Classify, Failure, EXIT_FAILED, EXIT_OK, EXIT_ZENO_STALLED,
 };
 
 /// The fewest timed repetitions of anything measured.
@@ -244,7 +245,7 @@ fn run_json<'a>(
         options,
         run,
         constraint_names: constraints,
-        message: crate::run::message(run, constraints),
+        message: message(run, constraints),
         trajectory: TrajectoryJson { file: "", rows: 0 },
     }
     .summary();

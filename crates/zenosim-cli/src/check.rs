@@ -4,10 +4,10 @@
 use anyhow::anyhow;
 use zenosim::{Derived, HybridLagrangian, OutputGrid, Simulation, SimulationOptions, ZenoStrategy};
 use zenosim_model::ModelFile;
+use zenosim_runs::number::number;
+use zenosim_runs::summary::method_name;
 
 use crate::cli::CheckArgs;
-use crate::summary::method_name;
-use crate::trajectory::number;
 use crate::{print_report, Classify, Failure, EXIT_OK};
 
 /// Checks the model of `args` and prints the report; exit 0, or a bad-input failure.

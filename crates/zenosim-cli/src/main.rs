@@ -12,12 +12,10 @@ mod bench;
 mod check;
 mod cli;
 mod input;
-mod json_layout;
 mod output;
 mod plot;
 mod progress;
 mod run;
-mod summary;
 mod trajectory;
 
 use std::io::Write;

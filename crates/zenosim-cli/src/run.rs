@@ -6,19 +6,21 @@ use std::io::{BufWriter, Write};
 use std::path::PathBuf;
 
 use anyhow::{anyhow, Context};
-use zenosim::{
-    Error, Execution, HybridLagrangian, Outcome, OutputGrid, Simulation, SimulationOptions,
-};
+use zenosim::{Execution, HybridLagrangian, Outcome, OutputGrid, Simulation, SimulationOptions};
 use zenosim_model::ModelFile;
+use zenosim_runs::json_layout;
+use zenosim_runs::message::{failure, message, plural};
+use zenosim_runs::number::number;
+use zenosim_runs::summary::{
+    constraint_names, status, EnergyBalanceJson, Record, Summary, TrajectoryJson,
+};
 
 use crate::cli::RunArgs;
-use crate::json_layout;
 use crate::output::{OutputDir, PartialFile};
 use crate::plot;
 use crate::plot::short;
 use crate::progress::Progress;
-use crate::summary::{status, EnergyBalanceJson, Record, Summary, TrajectoryJson};
-use crate::trajectory::{number, TrajectoryWriter};
+use crate::trajectory::TrajectoryWriter;
 use crate::{
     print_error, print_report, Classify, Failure, EXIT_FAILED, EXIT_OK, EXIT_ZENO_STALLED,
 };
@@ -200,15 +202,6 @@ fn options(file: &ModelFile, args: &RunArgs) -> SimulationOptions {
     options
 }
 
-/// The names of `file`'s constraints, in order.
-pub fn constraint_names(file: &ModelFile) -> Vec<String> {
-    file.model
-        .constraints()
-        .iter()
-        .map(|c| c.name.clone())
-        .collect()
-}
-
 /// `out/<model name>`, the name made a single safe path component: characters other than
 /// letters, digits, `-`, `_` and `.` become `_`, and leading dots are dropped.
 pub fn default_dir(name: &str) -> PathBuf {
@@ -224,49 +217,6 @@ pub fn default_dir(name: &str) -> PathBuf {
         .collect();
     let safe = safe.trim_start_matches('.');
     PathBuf::from("out").join(if safe.is_empty() { "model" } else { safe })
-}
-
-/// `count` `what`, with an English plural.
-pub fn plural(count: usize, what: &str) -> String {
-    if count == 1 {
-        format!("1 {what}")
-    } else {
-        format!("{count} {what}s")
-    }
-}
-
-/// The summary's message: what happened, in a sentence.
-pub fn message(run: &Execution, constraints: &[String]) -> String {
-    let name = |index: usize| constraints.get(index).map_or("?", String::as_str);
-    let impacts = plural(run.stats.impacts as usize, "impact");
-    match &run.outcome {
-        Outcome::Finished => format!(
-            "finished at t = {} after {impacts} and {}",
-            number(run.t_final),
-            plural(run.zeno.len(), "Zeno point")
-        ),
-        Outcome::ZenoStalled { constraint, t_zeno } => format!(
-            "stalled at the Zeno point of constraint '{}', τ∞ ≈ {}, after {impacts}: with \
-             zeno = off the plain hybrid system cannot go past it (use --zeno auto to carry the \
-             execution on)",
-            name(*constraint),
-            number(*t_zeno)
-        ),
-        Outcome::Failed(error) => format!("failed: {} (after {impacts})", failure(error)),
-        Outcome::Interrupted => {
-            format!("interrupted at t = {} after {impacts}", number(run.t_final))
-        }
-    }
-}
-
-/// Why the run failed, saying how to raise a limit on the command line or in the file.
-fn failure(error: &Error) -> String {
-    match error {
-        Error::Limit { what, .. } => {
-            format!("{error} (--max-{what} N, or max_{what} in the file's [simulation])")
-        }
-        _ => error.to_string(),
-    }
 }
 
 /// The report printed after a run, with the energy balance when given (a model that is not

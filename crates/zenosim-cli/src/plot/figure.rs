@@ -4,6 +4,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::{DrawingArea, WHITE};
 use plotters_backend::DrawingBackend;
+use zenosim_runs::message::plural;
 
 use super::canvas::{Drawn, Picture, FONT};
 use super::plane_chart::{draw_plane, plane_title};
@@ -12,7 +13,6 @@ use super::scene::Scene;
 use super::style::{short, TITLE_SIZE};
 use super::svg::Layer;
 use super::time_chart::{draw_time, Quantity};
-use crate::run::plural;
 
 /// The three panels of the paper's figures.
 pub struct Figure<'a> {

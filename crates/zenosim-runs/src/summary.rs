@@ -1,5 +1,6 @@
-//! `summary.json`: the record of a run. Non-finite numbers (which JSON cannot hold) are written
-//! as `null`, as serde_json does; so is `max_step` when there is none.
+//! `summary.json`: the record of a run, as serde structures with exactly its keys and order
+//! (docs/output.md). Non-finite numbers (which JSON cannot hold) are written as `null`, as
+//! serde_json does; so is `max_step` when there is none.
 
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use serde::Serialize as DeriveSerialize;
@@ -22,7 +23,7 @@ pub struct Summary<'a> {
     pub model: &'a str,
     /// Its description, if any.
     pub description: Option<&'a str>,
-    /// `finished`, `zeno_stalled` or `failed`.
+    /// [`status`]'s word for the outcome.
     pub status: &'static str,
     /// What happened, in a sentence.
     pub message: String,
@@ -68,11 +69,24 @@ pub struct Lazy<'a, T, U> {
 }
 
 impl<'a, T, U> Lazy<'a, T, U> {
-    fn new(items: &'a [T], map: impl Fn(&'a T) -> U + 'a) -> Self {
+    /// `items`, each serialised as `map` makes it.
+    pub fn new(items: &'a [T], map: impl Fn(&'a T) -> U + 'a) -> Self {
         Self {
             items,
             map: Box::new(map),
         }
+    }
+}
+
+impl<T, U> Lazy<'_, T, U> {
+    /// How many items there are.
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
     }
 }
 
@@ -117,7 +131,9 @@ impl<V: Serialize> Serialize for Pairs<'_, V> {
 /// A state `(q, q̇)`.
 #[derive(DeriveSerialize)]
 pub struct StateJson<'a> {
+    /// The coordinates.
     pub q: &'a [f64],
+    /// The velocities.
     pub q_dot: &'a [f64],
 }
 
@@ -134,8 +150,13 @@ impl<'a> From<&'a State> for StateJson<'a> {
 #[derive(DeriveSerialize)]
 #[serde(untagged)]
 pub enum ZenoSetting {
+    /// `"auto"` or `"off"`.
     Name(&'static str),
-    Epsilon { epsilon: f64 },
+    /// The paper's rule with its threshold.
+    Epsilon {
+        /// The threshold ε.
+        epsilon: f64,
+    },
 }
 
 impl From<ZenoStrategy> for ZenoSetting {
@@ -151,17 +172,25 @@ impl From<ZenoStrategy> for ZenoSetting {
 /// The run's settings.
 #[derive(DeriveSerialize)]
 pub struct SettingsJson {
+    /// The stop time.
     pub t_end: f64,
+    /// The relative tolerance.
     pub rtol: f64,
+    /// The absolute tolerance.
     pub atol: f64,
+    /// How Zeno points are passed.
     pub zeno: ZenoSetting,
     /// The sampling interval, or `null` for every step.
     pub dt: Option<f64>,
+    /// The Runge–Kutta pair ([`method_name`]).
     pub method: &'static str,
+    /// `projection` or `model_map`: how a Zeno point's state is completed (`R∞`).
     pub completion: &'static str,
     /// The largest step, or `null` for none.
     pub max_step: Option<f64>,
+    /// The most events before the run fails.
     pub max_events: u64,
+    /// The most accepted steps before the run fails.
     pub max_steps: u64,
 }
 
@@ -199,11 +228,17 @@ pub fn method_name(method: Method) -> &'static str {
 /// Where the run ended.
 #[derive(DeriveSerialize)]
 pub struct FinalJson<'a> {
+    /// The final time.
     pub t: f64,
+    /// The final mode's name (`free` or `constrained`).
     pub mode: &'static str,
+    /// The constraints held at the end.
     pub active: Vec<&'a str>,
+    /// The final coordinates.
     pub q: &'a [f64],
+    /// The final velocities.
     pub q_dot: &'a [f64],
+    /// The energy of the final state at the final time.
     pub energy: f64,
 }
 
@@ -253,14 +288,19 @@ impl EnergyBalanceJson {
 /// A Zeno point.
 #[derive(DeriveSerialize)]
 pub struct ZenoJson<'a> {
+    /// The constraint of the accumulation's last impact.
     pub constraint: &'a str,
     /// Every constraint of the accumulation: `R∞` puts the state onto all of them.
     pub constraints: Vec<&'a str>,
+    /// `genuine` or `chattering`.
     pub kind: &'static str,
+    /// When the run switched to the constrained motion (or stalled).
     pub t_switch: f64,
     /// The estimate of τ∞.
     pub t_zeno: f64,
+    /// The impacts of the accumulation.
     pub impacts: usize,
+    /// The measured ratio of successive flight times, if measured.
     pub ratio: Option<f64>,
     /// The state after R∞ (the last state reached, when stalled).
     pub point: StateJson<'a>,
@@ -269,45 +309,63 @@ pub struct ZenoJson<'a> {
 /// An event.
 #[derive(DeriveSerialize)]
 pub struct EventJson<'a> {
+    /// `impact`, `zeno` or `liftoff`.
     pub kind: &'static str,
+    /// When.
     pub t: f64,
+    /// The constraint reached, whose accumulation ended, or that let go.
     pub constraint: &'a str,
     /// The constraints involved (for an impact, every constraint of the impact law).
     pub contacts: Vec<&'a str>,
     /// For an impact, the impulse on each of `contacts` (pushing, ≥ 0); else empty.
     pub impulses: &'a [f64],
+    /// The state just before.
     pub before: StateJson<'a>,
+    /// The state just after.
     pub after: StateJson<'a>,
 }
 
 /// An interval of the hybrid time domain.
 #[derive(DeriveSerialize)]
 pub struct IntervalJson<'a> {
+    /// Its start time.
     pub start: f64,
+    /// Its end time.
     pub end: f64,
+    /// Its mode's name.
     pub mode: &'static str,
+    /// The constraints held.
     pub active: Vec<&'a str>,
 }
 
 /// The work counters.
 #[derive(DeriveSerialize)]
 pub struct StatsJson {
+    /// Accepted steps.
     pub steps: u64,
+    /// Rejected steps.
     pub rejected_steps: u64,
+    /// Evaluations of the right-hand side.
     pub rhs_evals: u64,
+    /// Impacts.
     pub impacts: u64,
+    /// Guard crossings found not to be events.
     pub spurious_events: u64,
+    /// Events of every kind.
     pub events: usize,
 }
 
 /// The trajectory file.
 #[derive(DeriveSerialize)]
 pub struct TrajectoryJson {
+    /// Its file name (empty where no trajectory was written).
     pub file: &'static str,
+    /// Its number of data rows.
     pub rows: u64,
 }
 
-/// `finished`, `zeno_stalled`, `failed` or `interrupted`.
+/// The word for `outcome` in `summary.json` and in a sweep's rows: `finished`, `zeno_stalled`,
+/// `failed` or `interrupted`.
 pub fn status(outcome: &Outcome) -> &'static str {
     match outcome {
         Outcome::Finished => "finished",
@@ -319,11 +377,17 @@ pub fn status(outcome: &Outcome) -> &'static str {
 
 /// The summary of `run` of the model `file` with `options`.
 pub struct Record<'a> {
+    /// The model file (after its overrides).
     pub file: &'a ModelFile,
+    /// The options the run used.
     pub options: &'a SimulationOptions,
+    /// The run.
     pub run: &'a Execution,
+    /// The constraints' names ([`constraint_names`]).
     pub constraint_names: &'a [String],
+    /// What happened ([`crate::message::message`]).
     pub message: String,
+    /// The trajectory file written beside the summary.
     pub trajectory: TrajectoryJson,
 }
 
@@ -407,6 +471,15 @@ impl<'a> Record<'a> {
             trajectory: self.trajectory,
         }
     }
+}
+
+/// The names of `file`'s constraints, in order.
+pub fn constraint_names(file: &ModelFile) -> Vec<String> {
+    file.model
+        .constraints()
+        .iter()
+        .map(|c| c.name.clone())
+        .collect()
 }
 
 /// The names of the constraints active in `mode`.

@@ -1,0 +1,60 @@
+//! What happened in a run, in a sentence: the `message` of `summary.json` and of a sweep's rows.
+
+use zenosim::{Error, Execution, Outcome};
+
+use crate::number::number;
+
+/// `count` `what`, with an English plural (`1 impact`, `3 impacts`).
+pub fn plural(count: usize, what: &str) -> String {
+    if count == 1 {
+        format!("1 {what}")
+    } else {
+        format!("{count} {what}s")
+    }
+}
+
+/// What happened in `run`, in a sentence; `constraints` names the model's constraints in order.
+pub fn message(run: &Execution, constraints: &[String]) -> String {
+    let name = |index: usize| constraints.get(index).map_or("?", String::as_str);
+    let impacts = plural(run.stats.impacts as usize, "impact");
+    match &run.outcome {
+        Outcome::Finished => format!(
+            "finished at t = {} after {impacts} and {}",
+            number(run.t_final),
+            plural(run.zeno.len(), "Zeno point")
+        ),
+        Outcome::ZenoStalled { constraint, t_zeno } => format!(
+            "stalled at the Zeno point of constraint '{}', τ∞ ≈ {}, after {impacts}: with \
+             zeno = off the plain hybrid system cannot go past it (use --zeno auto to carry the \
+             execution on)",
+            name(*constraint),
+            number(*t_zeno)
+        ),
+        Outcome::Failed(error) => format!("failed: {} (after {impacts})", failure(error)),
+        Outcome::Interrupted => {
+            format!("interrupted at t = {} after {impacts}", number(run.t_final))
+        }
+    }
+}
+
+/// Why a run failed, saying how to raise a limit (on the command line or in the file).
+pub fn failure(error: &Error) -> String {
+    match error {
+        Error::Limit { what, .. } => {
+            format!("{error} (--max-{what} N, or max_{what} in the file's [simulation])")
+        }
+        _ => error.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plurals() {
+        assert_eq!(plural(0, "impact"), "0 impacts");
+        assert_eq!(plural(1, "impact"), "1 impact");
+        assert_eq!(plural(26, "Zeno point"), "26 Zeno points");
+    }
+}
