@@ -367,12 +367,7 @@ pub struct TrajectoryJson {
 /// The word for `outcome` in `summary.json` and in a sweep's rows: `finished`, `zeno_stalled`,
 /// `failed` or `interrupted`.
 pub fn status(outcome: &Outcome) -> &'static str {
-    match outcome {
-        Outcome::Finished => "finished",
-        Outcome::ZenoStalled { .. } => "zeno_stalled",
-        Outcome::Failed(_) => "failed",
-        Outcome::Interrupted => "interrupted",
-    }
+    crate::Status::of(outcome).word()
 }
 
 /// The summary of `run` of the model `file` with `options`.
