@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 import os
-from typing import Any, Literal, Mapping, Sequence, Union
+from typing import Any, Literal, Mapping, Sequence, Union, final
 
 import numpy as np
 import numpy.typing as npt
 
+__all__ = ["Model", "Run", "run", "sweep", "ModelError", "__version__"]
+
 __version__: str
 
-PathLike = Union[str, "os.PathLike[str]"]
-Zeno = Union[Literal["auto", "off"], float, None]
-Value = Union[float, int, str]
+_PathLike = Union[str, "os.PathLike[str]"]
+_Zeno = Union[Literal["auto", "off"], float, None]
+_Value = Union[float, int, str]
 
 class ModelError(Exception):
     """A model file (or an override of it) that zenosim refuses.
@@ -31,6 +33,7 @@ class ModelError(Exception):
     """The key path (``"constraint[1].restitution"``), the missing key, or the name an
     override sets; None for a syntax error or the file as a whole."""
 
+@final
 class Model:
     """A hybrid Lagrangian read from a model file (TOML) and checked.
 
@@ -38,7 +41,7 @@ class Model:
     """
 
     @staticmethod
-    def from_file(path: PathLike) -> Model:
+    def from_file(path: _PathLike) -> Model:
         """Reads and checks the model file at ``path``.
 
         Raises :class:`ModelError` for a model that zenosim refuses (also a file over 1 MiB or
@@ -73,6 +76,7 @@ class Model:
     def constraints(self) -> list[str]:
         """The constraints' names, in order."""
 
+@final
 class Run:
     """The record of one run: what ``zenosim run`` writes in trajectory.csv and summary.json.
 
@@ -128,14 +132,14 @@ class Run:
         """The constraints' names (the columns of ``h``)."""
 
 def run(
-    model: Model | PathLike,
+    model: Model | _PathLike,
     *,
     t_end: float | None = None,
-    zeno: Zeno = None,
+    zeno: _Zeno = None,
     rtol: float | None = None,
     atol: float | None = None,
     dt: float | None = None,
-    set: Mapping[str, Value] | None = None,
+    set: Mapping[str, _Value] | None = None,
 ) -> Run:
     """Runs ``model`` (a :class:`Model` or the path of a model file) once, keeping its
     trajectory.
@@ -153,11 +157,11 @@ def run(
     """
 
 def sweep(
-    model: Model | PathLike,
+    model: Model | _PathLike,
     values: Mapping[str, Sequence[float] | npt.ArrayLike],
     *,
     t_end: float | None = None,
-    zeno: Zeno = None,
+    zeno: _Zeno = None,
     rtol: float | None = None,
     atol: float | None = None,
     product: bool = True,
