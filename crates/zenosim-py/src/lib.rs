@@ -11,6 +11,7 @@ mod interrupt;
 mod model;
 mod run;
 mod sweep;
+mod topy;
 
 use pyo3::prelude::*;
 

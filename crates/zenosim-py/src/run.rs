@@ -209,16 +209,10 @@ impl Run {
     }
 }
 
-/// `value` serialised by serde_json and read back by Python's `json.loads`: summary.json's
+/// `value` as Python objects: what `json.loads` makes of serde_json's text, summary.json's
 /// keys and numbers (NaN and infinities are None, as summary.json's `null`).
 pub fn json_value<T: serde::Serialize>(py: Python<'_>, value: &T) -> PyResult<Py<PyAny>> {
-    let text = serde_json::to_string(value)
-        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
-    Ok(py
-        .import("json")?
-        .getattr("loads")?
-        .call1((text,))?
-        .unbind())
+    Ok(crate::topy::to_python(py, value)?.unbind())
 }
 
 /// Runs `model` (a `Model` or a path) once, keeping its trajectory.

@@ -117,12 +117,12 @@ def test_overrides_change_the_model_and_accept_formulas():
     assert base.parameters["h0"] == 1.0
 
 
-def test_a_failed_run_is_a_status_with_what_was_computed(cli_run):
-    path = FAULTS / "blow-up.toml"
+@pytest.mark.parametrize("path", sorted(FAULTS.glob("*.toml")), ids=lambda p: p.stem)
+def test_a_failed_run_is_a_status_with_what_was_computed(path, cli_run):
     run = zenosim.run(path)
     assert run.status == "failed"
     assert run.message.startswith("failed: ")
-    assert len(run.t) > 1 and run.t[-1] > 0
+    assert len(run.t) >= 1
     assert_same_as_cli(run, cli_run(path, expect=(1,)))
 
 
