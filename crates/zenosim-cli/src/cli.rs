@@ -5,8 +5,9 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand};
 use zenosim::ZenoStrategy;
 use zenosim_model::Override;
+use zenosim_runs::sweep::{Axis, RunSettings, Shard};
 
-use crate::plot::{Format, Plane};
+use crate::plot::{Format, MapSpec, Plane};
 
 /// Simulate a Lagrangian hybrid system with impacts, written in a model file, through its Zeno
 /// points and on past them.
@@ -37,22 +38,35 @@ directory; characters of the name other than letters, digits, '-', '_' and '.' b
   summary.json    the outcome, the final state, the Zeno points, the events, the hybrid time
                   domain, the work counters and the constraints' formulas h (non-finite numbers
                   are written as null)
-Each file is written to a temporary name (.<file>.partial) and renamed when complete, at the
-end of the run: until then the previous run's files stay as they were, so a run that is killed
-leaves them untouched (and a hidden .partial file that the next run overwrites). The old
+DIR is locked while the run writes into it: a second zenosim writing into DIR fails at once.
+Each file is written to a temporary name of its own (.<file>.<pid>-<n>.partial, created
+exclusively: never through a symlink) and renamed when complete, at the end of the run: until
+then the previous run's files stay as they were, so a run that is killed leaves them untouched
+(and a hidden .partial file that the next command writing into DIR removes). The old
 summary.json and plots are removed just before the new files are renamed, summary.json last, so
-its presence means the files are complete and belong together.
+its presence means the files are complete and belong together. A write that fails (a full disk)
+stops the run at once. Ctrl-C (SIGINT) or SIGTERM stops the run at its next step and writes
+everything computed up to there, status \"interrupted\", exit status 130 (143 for SIGTERM); a
+second Ctrl-C stops at once, leaving the previous results as they were and no temporary file.
 With --plot, the plots are drawn from these files once they are complete, as `zenosim plot DIR`
 draws them (see `zenosim plot --help`).
 
 Exit status: 0 finished; 1 the simulation failed (the files are still completed, status
 \"failed\") or the output could not be written; 2 a bad model or bad arguments (nothing is
-written); 3 the run stopped at a Zeno point (--zeno off)."
+written); 3 the run stopped at a Zeno point (--zeno off); 130 (143) interrupted by Ctrl-C (SIGTERM)."
     )]
     Run(RunArgs),
     /// Draw the plots of a run from its output directory (summary.json and trajectory.csv).
     #[command(after_help = PLOT_HELP)]
     Plot(PlotArgs),
+    /// Run a model at every point of a grid of parameters or initial values, in parallel, and
+    /// write one row per run (CSV): its status, impacts, Zeno time and final state.
+    #[command(after_help = SWEEP_HELP)]
+    Sweep(SweepArgs),
+    /// Join the shards of a sweep (`zenosim sweep --shard K/N`) into the file a single sweep
+    /// would have written.
+    #[command(after_help = MERGE_HELP)]
+    Merge(MergeArgs),
     /// Check a model and print what zenosim derives from it at the initial state.
     #[command(after_help = "Exit status: 0 the model is valid; 2 it is not (or bad arguments).")]
     Check(CheckArgs),
@@ -64,6 +78,111 @@ written); 3 the run stopped at a Zeno point (--zeno off)."
     /// evaluations) from a JSON file of measured points, as bench/run writes it.
     #[command(after_help = WORK_PRECISION_HELP)]
     WorkPrecision(WorkPrecisionArgs),
+}
+
+/// What `zenosim sweep --help` says of its file and exit status.
+const SWEEP_HELP: &str = "Each --vary adds an axis: NAME=START:STOP:COUNT (COUNT evenly spaced \
+values from START to STOP, both included, as numpy.linspace) or NAME=V1,V2,... (numbers). NAME \
+is a parameter or an initial value (a coordinate x or a velocity x_dot) of the model. The \
+points are every combination of the axes' values, the first axis varying slowest (or, with \
+--zip, the axes' i-th values together). Each point is the model file with those values, run \
+with the file's settings (changed by --t-end, --zeno, --rtol, --atol) and no trajectory kept; \
+a point whose values the model refuses (a restitution of 1.5, a start below a constraint) is a \
+row of status invalid, and the sweep goes on.
+
+The file (default: out/<model name>/sweep.csv, or sweep-K-of-N.csv with --shard K/N):
+  # zenosim sweep v1 zenosim=VERSION sweep=HASH points=TOTAL shard=K/N model=NAME
+  index,<varied names...>,status,impacts,t_zeno,t_switch,t_final,final_<q>...,final_<q>_dot...,message
+one row per run, in the order of the points (index from 0). status: finished, zeno_stalled \
+(--zeno off), failed or invalid. t_zeno, t_switch: of the first Zeno point, NaN where there is \
+none. Numbers in shortest round-trip form, NaN where there is no value. The first line says \
+which sweep (HASH: of the model file and the sweep's axes and settings) and which shard; read \
+the file with pandas as pd.read_csv(path, skiprows=1). It is written to a temporary name \
+(.<file>.<pid>-<n>.partial) and renamed when complete. Ctrl-C (or SIGTERM) stops the runs \
+under way and writes the rows done, exit status 130 (143); a second Ctrl-C stops at once, \
+writing nothing (the previous file stays as it was).
+
+--shard K/N runs the points i with i % N = K - 1 (interleaved, so that the shards take \
+similar times): one part per job of a cluster's array (Slurm, Kubernetes indexed Jobs); \
+`zenosim merge` joins the parts.
+
+--plot X,Y,QUANTITY draws a map of a column (t_zeno, t_switch, impacts, t_final, final_<q>...) \
+over two varied names X and Y of a product (other axes with one value at most), a cell per \
+run coloured by the value with a colour bar, the runs without a value (NaN: no Zeno point, or \
+invalid) in grey, hatched; written beside the file as <file stem>.svg (or .png with --format \
+png).
+
+Exit status: 0 every run finished or stopped at a Zeno point; 1 a run failed or a point was \
+invalid (the file is still written, complete, their rows saying why), or the output could not \
+be written; 2 a bad model or bad arguments (nothing is written).";
+
+/// What `zenosim merge --help` says.
+const MERGE_HELP: &str = "The parts are the files of `zenosim sweep ... --shard K/N` for K = \
+1..N, in any order. Merge checks that they come from the same sweep (the first lines' model, \
+sweep hash, points and zenosim version agree), that every shard is given once, and that each \
+holds exactly its rows; it writes, to a temporary name renamed when complete, exactly the file \
+one unsharded `zenosim sweep` would have written.
+
+Exit status: 0 merged; 1 the output could not be written; 2 a part is missing, given twice, \
+from another sweep, incomplete or not a sweep file (the message names the file), or bad \
+arguments.";
+
+/// `zenosim sweep`.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    /// The model file (TOML).
+    #[arg(value_name = "MODEL.toml")]
+    pub model: PathBuf,
+
+    /// An axis: NAME=START:STOP:COUNT or NAME=V1,V2,...; repeatable (one axis each).
+    #[arg(long = "vary", value_name = "NAME=VALUES", required = true, value_parser = parse_axis)]
+    pub vary: Vec<Axis>,
+
+    /// Combine the axes' i-th values (all axes the same length) instead of every combination.
+    #[arg(long)]
+    pub zip: bool,
+
+    /// The sweep's file [default: out/<model name>/sweep.csv, or sweep-K-of-N.csv with
+    /// --shard].
+    #[arg(long, value_name = "FILE.csv")]
+    pub out: Option<PathBuf>,
+
+    /// Run only the K-th of N interleaved parts (1 ≤ K ≤ N), to be joined by `zenosim merge`.
+    #[arg(long, value_name = "K/N", value_parser = parse_shard)]
+    pub shard: Option<Shard>,
+
+    /// The number of runs at once [default: one per core].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub workers: Option<u32>,
+
+    /// The settings of every run.
+    #[command(flatten)]
+    pub settings: SettingArgs,
+
+    /// Draw a map of QUANTITY (a column: t_zeno, impacts, final_x...) over the varied names X
+    /// and Y, beside the file.
+    #[arg(long, value_name = "X,Y,QUANTITY", value_parser = parse_map)]
+    pub plot: Option<MapSpec>,
+
+    /// With --plot: the map's format [default: svg].
+    #[arg(long, value_enum, value_name = "svg|png")]
+    pub format: Option<Format>,
+
+    /// Bounds on the model file's formulas.
+    #[command(flatten)]
+    pub formulas: FormulaLimits,
+}
+
+/// `zenosim merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// The shards' files.
+    #[arg(value_name = "PART.csv", required = true)]
+    pub parts: Vec<PathBuf>,
+
+    /// The merged file.
+    #[arg(long, value_name = "FILE.csv", required = true)]
+    pub out: PathBuf,
 }
 
 /// What `zenosim bench --help` says of its report.
@@ -148,23 +267,9 @@ pub struct RunArgs {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 
-    /// The stop time [default: the file's simulation.t_end, else 10].
-    #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = positive)]
-    pub t_end: Option<f64>,
-
-    /// How to pass Zeno points: "auto" (switch once the remaining bounces are below the
-    /// integration tolerance), "off" (stop at the Zeno point, exit 3) or a number ε (the paper's
-    /// rule: switch when |h| ≤ ε and |A q̇| ≤ ε) [default: the file's simulation.zeno, else auto].
-    #[arg(long, value_name = "auto|off|EPS", allow_negative_numbers = true, value_parser = zeno)]
-    pub zeno: Option<ZenoStrategy>,
-
-    /// The relative tolerance [default: the file's simulation.rtol, else 1e-10].
-    #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = positive)]
-    pub rtol: Option<f64>,
-
-    /// The absolute tolerance [default: the file's simulation.atol, else 1e-10].
-    #[arg(long, value_name = "A", allow_negative_numbers = true, value_parser = positive)]
-    pub atol: Option<f64>,
+    /// The run's settings.
+    #[command(flatten)]
+    pub settings: SettingArgs,
 
     /// Sample the trajectory every DT from the dense output instead of at every step
     /// [default: the file's simulation.dt, else every step].
@@ -198,6 +303,42 @@ pub struct RunArgs {
     /// Bounds on the model file's formulas.
     #[command(flatten)]
     pub formulas: FormulaLimits,
+}
+
+/// The settings `run` and `sweep` change on the command line: the stop time, the Zeno strategy
+/// and the tolerances (each by default the file's).
+#[derive(Clone, Copy, Debug, Args)]
+pub struct SettingArgs {
+    /// The stop time [default: the file's simulation.t_end, else 10].
+    #[arg(long, value_name = "T", allow_negative_numbers = true, value_parser = positive)]
+    pub t_end: Option<f64>,
+
+    /// How to pass Zeno points: "auto" (switch once the remaining bounces are below the
+    /// integration tolerance), "off" (stop at the Zeno point; `zenosim run` exits 3) or a number
+    /// ε (the paper's rule: switch when |h| ≤ ε and |A q̇| ≤ ε) [default: the file's
+    /// simulation.zeno, else auto].
+    #[arg(long, value_name = "auto|off|EPS", allow_negative_numbers = true, value_parser = zeno)]
+    pub zeno: Option<ZenoStrategy>,
+
+    /// The relative tolerance [default: the file's simulation.rtol, else 1e-10].
+    #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = positive)]
+    pub rtol: Option<f64>,
+
+    /// The absolute tolerance [default: the file's simulation.atol, else 1e-10].
+    #[arg(long, value_name = "A", allow_negative_numbers = true, value_parser = positive)]
+    pub atol: Option<f64>,
+}
+
+impl SettingArgs {
+    /// The changes to the file's settings.
+    pub fn settings(&self) -> RunSettings {
+        RunSettings {
+            t_end: self.t_end,
+            zeno: self.zeno,
+            rtol: self.rtol,
+            atol: self.atol,
+        }
+    }
 }
 
 /// The model file and the changes `--set` makes to it: what `run`, `check` and `bench` read.
@@ -302,6 +443,20 @@ fn parse_override(text: &str) -> Result<Override, String> {
 }
 
 fn parse_plane(text: &str) -> Result<Plane, String> {
+    text.parse()
+}
+
+fn parse_axis(text: &str) -> Result<Axis, String> {
+    text.parse()
+        .map_err(|e: zenosim_runs::sweep::SweepError| e.to_string())
+}
+
+fn parse_shard(text: &str) -> Result<Shard, String> {
+    text.parse()
+        .map_err(|e: zenosim_runs::sweep::SweepError| e.to_string())
+}
+
+fn parse_map(text: &str) -> Result<MapSpec, String> {
     text.parse()
 }
 

@@ -15,7 +15,9 @@ pub fn load(path: &Path, overrides: &[Override], limits: Limits) -> anyhow::Resu
         .map_err(|error| anyhow!(error))
 }
 
-fn read_source(path: &Path, display: &str) -> anyhow::Result<String> {
+/// The text of the model file `path` (named `display` in messages): at most
+/// [`zenosim_model::MAX_FILE_BYTES`], UTF-8 ([`zenosim_model::read_source`]).
+pub fn read_source(path: &Path, display: &str) -> anyhow::Result<String> {
     zenosim_model::read_source(path, display).or_else(|error| match error {
         ReadError::Io(error) => {
             Err(error).with_context(|| format!("cannot read the model file {display}"))

@@ -1,7 +1,8 @@
 //! The `zenosim` command: simulate a hybrid Lagrangian written in a model file (`zenosim run`),
 //! check one and print what zenosim derives from it (`zenosim check`), or draw the plots of a
-//! run (`zenosim plot`, or `zenosim run --plot`); time a model's runs (`zenosim bench`) and draw
-//! work–precision diagrams (`zenosim work-precision`).
+//! run (`zenosim plot`, or `zenosim run --plot`); run a model over a grid of parameters or
+//! initial values (`zenosim sweep`, its shards joined by `zenosim merge`); time a model's runs
+//! (`zenosim bench`) and draw work–precision diagrams (`zenosim work-precision`).
 //!
 //! Exit status: 0 finished (or a valid model, or plots drawn), 1 the simulation failed or the
 //! output could not be written, 2 a bad model, a bad run directory or bad arguments, 3 stopped
@@ -12,10 +13,14 @@ mod bench;
 mod check;
 mod cli;
 mod input;
+mod merge;
 mod output;
 mod plot;
 mod progress;
 mod run;
+mod signals;
+mod sweep;
+mod sweep_file;
 mod trajectory;
 
 use std::io::Write;
@@ -61,9 +66,19 @@ impl<T> Classify<T> for anyhow::Result<T> {
 }
 
 fn main() -> ExitCode {
+    // A write past a file-size limit (RLIMIT_FSIZE) fails with EFBIG, reported as a write error
+    // that stops the run at once, like a full disk, instead of killing the process with SIGXFSZ
+    // and losing what was computed.
+    #[cfg(unix)]
+    // SAFETY: `signal` with SIG_IGN installs no handler; it runs before any other thread exists.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run::run(&args),
+        Command::Sweep(args) => sweep::sweep(&args),
+        Command::Merge(args) => merge::merge(&args),
         Command::Check(args) => check::check(&args),
         Command::Plot(args) => plot::plot(&args),
         Command::Bench(args) => bench::bench(&args),
@@ -82,14 +97,42 @@ fn main() -> ExitCode {
     }
 }
 
-/// Prints `error: <message>` on stderr (ignoring a closed stderr: there is nowhere else to say it).
+/// Prints `error: <message>` on stderr (ignoring a closed stderr: there is nowhere else to say it),
+/// its control characters escaped ([`terminal_safe`]).
 pub fn print_error(message: &str) {
+    let message = terminal_safe(message);
     let _ = writeln!(std::io::stderr().lock(), "error: {message}");
 }
 
-/// Prints a report on stdout (ignoring a closed pipe, as in `zenosim check m.toml | head -1`).
+/// Prints a report on stdout (ignoring a closed pipe, as in `zenosim check m.toml | head -1`),
+/// its control characters escaped ([`terminal_safe`]).
 pub fn print_report(report: &str) {
     let mut stdout = std::io::stdout().lock();
-    let _ = stdout.write_all(report.as_bytes());
+    let _ = stdout.write_all(terminal_safe(report).as_bytes());
     let _ = stdout.flush();
+}
+
+/// `text` with every control character but the newline and the tab written as a Rust escape
+/// (`\u{1b}`): a model's name, a constraint's name or a line of a file quoted in a message
+/// cannot clear the screen, retitle the window or hide text from the reader. The bidirectional
+/// overrides and isolates (U+202A–U+202E, U+2066–U+2069), which reorder what is shown, are
+/// escaped too.
+pub fn terminal_safe(text: &str) -> std::borrow::Cow<'_, str> {
+    let unsafe_char = |c: char| {
+        (c.is_control() && c != '\n' && c != '\t')
+            || ('\u{202a}'..='\u{202e}').contains(&c)
+            || ('\u{2066}'..='\u{2069}').contains(&c)
+    };
+    if !text.chars().any(unsafe_char) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut safe = String::with_capacity(text.len() + 16);
+    for c in text.chars() {
+        if unsafe_char(c) {
+            safe.extend(c.escape_unicode());
+        } else {
+            safe.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(safe)
 }

@@ -84,3 +84,37 @@ impl Drop for Progress {
         self.finish();
     }
 }
+
+/// The runs done of a sweep: a bar on stderr when it is a terminal, moved from any thread.
+pub struct RunsDone {
+    bar: Option<ProgressBar>,
+}
+
+impl RunsDone {
+    /// A bar of `total` runs, shown when stderr is a terminal.
+    pub fn new(total: usize) -> Self {
+        let shown = std::io::stderr().is_terminal() && total > 0;
+        let bar = shown.then(|| {
+            let style = ProgressStyle::with_template(
+                "{elapsed_precise} [{wide_bar}] {pos}/{len} runs, {per_sec}, {eta} left",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar());
+            ProgressBar::new(total as u64).with_style(style)
+        });
+        Self { bar }
+    }
+
+    /// `done` runs are complete.
+    pub fn set(&self, done: usize) {
+        if let Some(bar) = &self.bar {
+            bar.set_position(done as u64);
+        }
+    }
+
+    /// Removes the bar, if it was shown.
+    pub fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}

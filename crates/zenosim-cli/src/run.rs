@@ -20,6 +20,7 @@ use crate::output::{OutputDir, PartialFile};
 use crate::plot;
 use crate::plot::short;
 use crate::progress::Progress;
+use crate::signals;
 use crate::trajectory::TrajectoryWriter;
 use crate::{
     print_error, print_report, Classify, Failure, EXIT_FAILED, EXIT_OK, EXIT_ZENO_STALLED,
@@ -35,6 +36,8 @@ const SUMMARY_INDENT: usize = 2;
 
 /// Runs the model of `args`; the exit status, or why nothing (or not everything) was written.
 pub fn run(args: &RunArgs) -> Result<u8, Failure> {
+    // Ctrl-C and SIGTERM stop the run(s) at the next step, keeping what was computed.
+    signals::install();
     // Everything is checked before the output directory is touched.
     if !args.plot && (args.format.is_some() || args.plane.is_some()) {
         return Err(anyhow!(
@@ -108,11 +111,13 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     // Both files are complete. The previous run's summary and plots go, then the trajectory
     // and the summary take their final names, the summary last: a summary.json is only ever
     // beside the files it describes (a kill between these renames leaves no summary at all).
-    out.remove(std::iter::once(SUMMARY.to_string()).chain(plot::plot_files()))
-        .output()?;
     let summary_path = summary_finished.target().to_path_buf();
-    csv_finished.publish().output()?;
-    summary_finished.publish().output()?;
+    signals::committing(|| {
+        out.remove(std::iter::once(SUMMARY.to_string()).chain(plot::plot_files()))?;
+        csv_finished.publish()?;
+        summary_finished.publish()
+    })
+    .output()?;
 
     // The plots, from the files just completed, exactly as `zenosim plot` draws them.
     let plots = if args.plot {
@@ -143,12 +148,14 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
             EXIT_FAILED
         }
         Outcome::Interrupted => {
+            let signal = signals::received();
             print_error(&format!(
-                "the run was interrupted at t = {}; what was computed up to then is in {}",
+                "the run was interrupted{} at t = {}; what was computed up to then is in {}",
+                signal.map_or(String::new(), |s| format!(" by {}", signals::name(s))),
                 number(execution.t_final),
                 dir.display()
             ));
-            EXIT_FAILED
+            signal.map_or(EXIT_FAILED, signals::exit_status)
         }
     };
     // A plot that could not be drawn is an output failure, said after the run's own outcome.
@@ -177,19 +184,7 @@ fn write_summary(out: &OutputDir, summary: &Summary<'_>) -> Result<PartialFile, 
 
 /// The file's settings, overridden by the command line's flags.
 fn options(file: &ModelFile, args: &RunArgs) -> SimulationOptions {
-    let mut options = file.options();
-    if let Some(t_end) = args.t_end {
-        options.t_end = t_end;
-    }
-    if let Some(rtol) = args.rtol {
-        options.tolerances.rtol = rtol;
-    }
-    if let Some(atol) = args.atol {
-        options.tolerances.atol = atol;
-    }
-    if let Some(zeno) = args.zeno {
-        options.zeno = zeno;
-    }
+    let mut options = args.settings.settings().apply(file.options());
     if let Some(dt) = args.dt {
         options.output = OutputGrid::Uniform(dt);
     }

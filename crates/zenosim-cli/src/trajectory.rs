@@ -151,6 +151,14 @@ impl<W: io::Write> Observer for TrajectoryWriter<W> {
     }
 
     fn event(&mut self, _event: &Event) {}
+
+    /// A write failed (a full disk): the run stops at once, its record kept, instead of
+    /// simulating to the end for rows that cannot be written. So does a first Ctrl-C or
+    /// SIGTERM ([`crate::signals`]).
+    fn interrupted(&mut self) -> bool {
+        self.error.is_some()
+            || crate::signals::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed)
+    }
 }
 
 #[cfg(test)]

@@ -167,15 +167,11 @@ fn a_hundred_thousand_nested_parentheses_are_refused_fast() {
 }
 
 /// What a fault's run must say: the model, and the cause in its message.
-const FAULTS: [(&str, &str); 8] = [
+const FAULTS: [(&str, &str); 7] = [
     ("blow-up", "the step size"),
     (
         "event-storm",
         "the limit of 2000 events was reached, the last 100 of them within",
-    ),
-    (
-        "flat-contact",
-        "constraint 'floor' has ∂h/∂q = 0 where it must act",
     ),
     (
         "flat-impact",

@@ -147,3 +147,39 @@ fn garbage_never_panics() {
         assert!(!stderr(&output).contains("panicked"), "{}", stderr(&output));
     }
 }
+
+/// Regression: a model's name and a line quoted from the file were printed raw, so escape
+/// sequences in them could clear the screen or retitle the terminal. Every control character
+/// but the newline and the tab is now printed as an escape (`\u{1b}`). (Constraint names are
+/// refused unless ASCII letters, digits, `_` and `-`; the refusal quotes them escaped.)
+#[test]
+fn control_characters_in_names_and_quoted_lines_are_printed_escaped() {
+    let named = BALL.replace(
+        "name = \"ball\"",
+        "name = \"ball\\u001b]0;pwned\\u0007\\u001b[2J\\u202e\"",
+    );
+    let scratch = Scratch::new(&named);
+    for args in [
+        &["check", "model.toml"][..],
+        &["run", "model.toml", "--out", "out"],
+    ] {
+        let output = scratch.zenosim(args);
+        assert_exit(&output, 0);
+        let printed = format!("{}{}", stdout(&output), stderr(&output));
+        assert!(
+            printed.contains("ball\\u{1b}]0;pwned\\u{7}\\u{1b}[2J\\u{202e}"),
+            "{printed}"
+        );
+        assert!(!printed.contains('\u{1b}') && !printed.contains('\u{7}'));
+        assert!(!printed.contains('\u{202e}'));
+    }
+    let refused_name = BALL.replace("name = \"floor\"", "name = \"floor\\u001b[31m\"");
+    let err = run_refused(&Scratch::new(&refused_name), &[]);
+    assert!(err.contains("floor\\u{1b}[31m"), "{err}");
+    assert!(!err.contains('\u{1b}'), "{err}");
+    // A raw escape byte in the file, quoted in the error that points at it.
+    let scratch = Scratch::new(&BALL.replace("h = \"x\"", "h = \"x\u{1b}[2J\""));
+    let err = run_refused(&scratch, &[]);
+    assert!(err.contains("\\u{1b}[2J"), "{err}");
+    assert!(!err.contains('\u{1b}'), "{err}");
+}

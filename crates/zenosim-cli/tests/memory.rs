@@ -102,3 +102,61 @@ fn a_million_steps_stay_under_50_mb() {
     assert!(scratch.path("out/figure.svg").exists());
     assert!(peak > 0 && peak < 50 * 1024, "peak RSS {peak} kB");
 }
+
+/// Regression: `zenosim plot` allocated its decimated series for every coordinate that
+/// summary.json lists before reading any data (50 000 names asked for 21 GB and aborted), and a
+/// trajectory of one line of any length was read whole and echoed into the error. The series
+/// now share a bounded number of columns, a line longer than any row of the run's columns is
+/// refused as it is read, and messages quote at most 200 characters.
+#[cfg(target_os = "linux")]
+#[test]
+fn plot_memory_is_bounded_whatever_summary_json_lists() {
+    let scratch = common::Scratch::new(common::BALL);
+    let (code, ..) = peak_of(scratch.dir.path(), &["run", "model.toml", "--out", "real"]);
+    assert_eq!(code, Some(0));
+    let text = std::fs::read_to_string(scratch.path("real/summary.json")).unwrap();
+    let mut summary: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let rows = summary["trajectory"]["rows"].as_u64().unwrap();
+
+    // 20 000 coordinates, with a trajectory of that many columns.
+    let n = 20_000;
+    let names: Vec<String> = (0..n).map(|i| format!("c{i}")).collect();
+    let velocities: Vec<String> = names.iter().map(|c| format!("{c}_dot")).collect();
+    summary["coordinates"] = serde_json::json!(names);
+    summary["velocities"] = serde_json::json!(velocities);
+    let wide = scratch.path("wide");
+    std::fs::create_dir(&wide).unwrap();
+    std::fs::write(wide.join("summary.json"), summary.to_string()).unwrap();
+    let mut csv = ["t", "mode"].map(String::from).to_vec();
+    csv.extend(names.iter().chain(&velocities).cloned());
+    csv.extend(["h_floor", "lambda_floor", "energy"].map(String::from));
+    let mut csv = csv.join(",") + "\n";
+    for row in 0..rows {
+        let zeros = vec!["0"; 2 * n].join(",");
+        csv += &format!("{},free,{zeros},1,0,0\n", row as f64 * 1e-3);
+    }
+    std::fs::write(wide.join("trajectory.csv"), csv).unwrap();
+    let (code, peak, elapsed) = peak_of(scratch.dir.path(), &["plot", "wide"]);
+    println!(
+        "{n} coordinates plotted in {:.2} s; peak RSS {:.1} MB",
+        elapsed.as_secs_f64(),
+        peak as f64 / 1024.0
+    );
+    assert_eq!(code, Some(0));
+    assert!(peak > 0 && peak < 200 * 1024, "peak RSS {peak} kB");
+
+    // A trajectory of one 20 MB line: refused as it is read, and not echoed.
+    let line = scratch.path("line");
+    std::fs::create_dir(&line).unwrap();
+    std::fs::write(line.join("summary.json"), &text).unwrap();
+    let long = format!("t,mode,{}\n", "x".repeat(20_000_000));
+    std::fs::write(line.join("trajectory.csv"), long).unwrap();
+    let output = scratch.zenosim(&["plot", "line"]);
+    common::assert_exit(&output, 2);
+    let err = common::stderr(&output);
+    assert!(
+        err.contains("trajectory.csv:1:") && err.contains("longer than"),
+        "{err}"
+    );
+    assert!(err.len() < 1000, "{} bytes of message", err.len());
+}

@@ -449,35 +449,77 @@ fn an_unwritable_output_directory_is_exit_1_naming_it() {
     assert!(err.contains("plain-file/sub"), "{err}");
 }
 
+/// Regression (a full disk): the run simulated to its end before saying that nothing could be
+/// written; it now stops at the first failed write, keeping no temporary file. Files limited to
+/// 8 KB stand for the disk (a write past the limit fails with EFBIG); the run asks for 10⁷ rows,
+/// minutes of simulation, and must end within seconds.
+#[cfg(unix)]
 #[test]
-fn a_full_disk_is_exit_1_and_leaves_no_partial_file() {
-    // /dev/full accepts opens and fails every write with ENOSPC; a symlink makes it the
-    // temporary file (Linux only).
-    if !std::path::Path::new("/dev/full").exists() {
-        return;
-    }
+fn a_full_disk_stops_the_run_at_once_exit_1_leaving_no_partial_file() {
+    let scratch = Scratch::new(BALL);
+    let started = std::time::Instant::now();
+    let output = scratch.zenosim_limited(
+        16,
+        &[
+            "run",
+            "model.toml",
+            "--out",
+            "out",
+            "--t-end",
+            "1e4",
+            "--dt",
+            "1e-3",
+        ],
+    );
+    assert!(started.elapsed().as_secs() < 30, "{:?}", started.elapsed());
+    assert_exit(&output, 1);
+    let err = stderr(&output);
+    assert!(err.contains("cannot write "), "{err}");
+    assert!(err.contains("trajectory.csv"), "{err}");
+    assert!(
+        files(&scratch.path("out")).is_empty(),
+        "{:?}",
+        files(&scratch.path("out"))
+    );
+}
+
+/// Regression: a symlink planted in the output directory under the temporary name
+/// (`.trajectory.csv.partial -> ~/anything`) made the run overwrite its target with the
+/// user's rights. Temporary files are now created exclusively under names of their own, a
+/// stale one is removed (the link, never its target), and a symlink under a final name is
+/// replaced by the file, not written through.
+#[cfg(unix)]
+#[test]
+fn symlinks_planted_in_the_output_directory_are_never_followed() {
     let scratch = Scratch::new(BALL);
     let out = scratch.path("out");
     std::fs::create_dir(&out).unwrap();
-    #[cfg(unix)]
-    std::os::unix::fs::symlink("/dev/full", out.join(".trajectory.csv.partial")).unwrap();
-    let output = scratch.run(&[]);
-    assert_exit(&output, 1);
-    let err = stderr(&output);
-    assert!(err.starts_with("error: cannot write "), "{err}");
-    assert!(err.contains("trajectory.csv"), "{err}");
-    assert!(files(&out).is_empty(), "{:?}", files(&out));
+    let victim = scratch.path("victim.txt");
+    std::fs::write(&victim, "precious").unwrap();
+    for name in [
+        ".trajectory.csv.partial",
+        ".summary.json.partial",
+        "trajectory.csv",
+    ] {
+        std::os::unix::fs::symlink(&victim, out.join(name)).unwrap();
+    }
+    assert_exit(&scratch.run(&[]), 0);
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
+    assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
+    let csv = std::fs::symlink_metadata(out.join("trajectory.csv")).unwrap();
+    assert!(csv.file_type().is_file());
 }
 
-#[test]
-fn a_killed_run_leaves_the_previous_results_as_they_were() {
-    let scratch = Scratch::new(BALL);
-    assert_exit(&scratch.run(&["--t-end", "0.3"]), 0);
-    let out = scratch.path("out");
-    let read = |name: &str| std::fs::read(out.join(name)).unwrap();
-    let (old_summary, old_csv) = (read("summary.json"), read("trajectory.csv"));
+/// `.trajectory.csv.<pid>-<n>.partial` files in `dir`.
+fn partials(dir: &std::path::Path) -> Vec<String> {
+    files(dir)
+        .into_iter()
+        .filter(|name| name.starts_with(".trajectory.csv.") && name.ends_with(".partial"))
+        .collect()
+}
 
-    // A run of 10⁷ rows, killed (SIGKILL: no chance to clean up) once it is writing.
+/// Starts a run of 10⁷ rows into `out` and waits until it has written 100 kB of them.
+fn start_long_run(scratch: &Scratch) -> std::process::Child {
     let mut child = std::process::Command::new(binary())
         .args([
             "run",
@@ -494,9 +536,17 @@ fn a_killed_run_leaves_the_previous_results_as_they_were() {
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
-    let partial = out.join(".trajectory.csv.partial");
+    let out = scratch.path("out");
     let started = std::time::Instant::now();
-    while std::fs::metadata(&partial).map_or(0, |m| m.len()) < 100_000 {
+    let written = || {
+        if !out.exists() {
+            return 0;
+        }
+        partials(&out).first().map_or(0, |name| {
+            std::fs::metadata(out.join(name)).map_or(0, |m| m.len())
+        })
+    };
+    while written() < 100_000 {
         assert!(
             started.elapsed().as_secs() < 60,
             "the run never started writing"
@@ -504,6 +554,40 @@ fn a_killed_run_leaves_the_previous_results_as_they_were() {
         assert!(child.try_wait().unwrap().is_none(), "the run ended early");
         std::thread::sleep(std::time::Duration::from_millis(10));
     }
+    child
+}
+
+/// Regression: two runs into one output directory shared the temporary names, so one printed
+/// "wrote summary.json" while no summary was left and trajectory.csv held the other's rows.
+/// The directory is now locked while a run writes into it: the second fails at once, saying
+/// why, and the first completes.
+#[test]
+fn a_second_run_into_a_directory_being_written_fails_at_once() {
+    let scratch = Scratch::new(BALL);
+    let mut first = start_long_run(&scratch);
+    let second = scratch.run(&["--t-end", "0.2"]);
+    first.kill().unwrap();
+    first.wait().unwrap();
+    assert_exit(&second, 1);
+    let err = stderr(&second);
+    assert!(
+        err.contains("another zenosim is writing into this directory"),
+        "{err}"
+    );
+    // Once the first is gone, the directory is free again.
+    assert_exit(&scratch.run(&["--t-end", "0.2"]), 0);
+}
+
+#[test]
+fn a_killed_run_leaves_the_previous_results_as_they_were() {
+    let scratch = Scratch::new(BALL);
+    assert_exit(&scratch.run(&["--t-end", "0.3"]), 0);
+    let out = scratch.path("out");
+    let read = |name: &str| std::fs::read(out.join(name)).unwrap();
+    let (old_summary, old_csv) = (read("summary.json"), read("trajectory.csv"));
+
+    // A run of 10⁷ rows, killed (SIGKILL: no chance to clean up) once it is writing.
+    let mut child = start_long_run(&scratch);
     child.kill().unwrap();
     child.wait().unwrap();
 
@@ -511,12 +595,83 @@ fn a_killed_run_leaves_the_previous_results_as_they_were() {
     // temporary file, never under a name that looks complete.
     assert_eq!(read("summary.json"), old_summary);
     assert_eq!(read("trajectory.csv"), old_csv);
-    assert_eq!(
-        files(&out),
-        [".trajectory.csv.partial", "summary.json", "trajectory.csv"]
-    );
-    // The next run completes and takes the temporary name over.
+    assert_eq!(partials(&out).len(), 1, "{:?}", files(&out));
+    assert_eq!(files(&out).len(), 3, "{:?}", files(&out));
+    // The next run completes and removes the killed run's temporary file.
     assert_exit(&scratch.run(&["--t-end", "0.2"]), 0);
     assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
     assert_eq!(summary(&out)["final"]["t"], 0.2);
+}
+
+/// Sends `signal` (`INT`, `TERM`) to `child`.
+#[cfg(unix)]
+fn send(child: &std::process::Child, signal: &str) {
+    let status = std::process::Command::new("kill")
+        .args([&format!("-{signal}"), &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+}
+
+/// `child`'s exit code, waiting at most a minute.
+fn exit_within_a_minute(child: &mut std::process::Child) -> Option<i32> {
+    let started = std::time::Instant::now();
+    while started.elapsed().as_secs() < 60 {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status.code();
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    child.kill().unwrap();
+    None
+}
+
+/// Regression: Ctrl-C killed the run with no message and no summary.json, leaving a hidden
+/// truncated temporary file. SIGINT and SIGTERM now stop the run at its next step and write
+/// everything computed, status "interrupted", exit status 128 + the signal.
+#[cfg(unix)]
+#[test]
+fn sigint_and_sigterm_keep_the_run_computed_so_far() {
+    for (signal, code) in [("INT", 130), ("TERM", 143)] {
+        let scratch = Scratch::new(BALL);
+        assert_exit(&scratch.run(&["--t-end", "0.3"]), 0);
+        let mut child = start_long_run(&scratch);
+        send(&child, signal);
+        assert_eq!(exit_within_a_minute(&mut child), Some(code), "SIG{signal}");
+        let out = scratch.path("out");
+        assert_eq!(
+            files(&out),
+            ["summary.json", "trajectory.csv"],
+            "SIG{signal}"
+        );
+        let s = summary(&out);
+        assert_eq!(s["status"], "interrupted");
+        let t = s["final"]["t"].as_f64().unwrap();
+        assert!(t > 0.3 && t < 1e4, "t = {t}");
+        let csv = Csv::read(&out.join("trajectory.csv"));
+        assert_eq!(
+            csv.rows.len() as u64,
+            s["trajectory"]["rows"].as_u64().unwrap()
+        );
+        assert_eq!(csv.rows.last().unwrap().t, t);
+    }
+}
+
+/// A second Ctrl-C stops at once: the previous results stay as they were, or the interrupted
+/// run's are complete, and no temporary file is left either way.
+#[cfg(unix)]
+#[test]
+fn a_second_sigint_stops_at_once_leaving_no_temporary_file() {
+    let scratch = Scratch::new(BALL);
+    assert_exit(&scratch.run(&["--t-end", "0.3"]), 0);
+    let out = scratch.path("out");
+    let old_summary = std::fs::read(out.join("summary.json")).unwrap();
+    let mut child = start_long_run(&scratch);
+    send(&child, "INT");
+    send(&child, "INT");
+    assert_eq!(exit_within_a_minute(&mut child), Some(130));
+    assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
+    let s = summary(&out);
+    let now = std::fs::read(out.join("summary.json")).unwrap();
+    assert!(now == old_summary || s["status"] == "interrupted");
 }

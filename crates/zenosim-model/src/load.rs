@@ -1516,7 +1516,21 @@ impl<'s> Cx<'s> {
                     "look for a division by zero or a square root of 0 in h at the initial state, or start elsewhere",
                 ));
             }
-            if h < 0.0 {
+            if h == 0.0 && gradient.iter().all(|&a| a == 0.0) {
+                let h_item = root.get("constraint").expect("checked");
+                return Err(self.at(
+                    h_item.span().start,
+                    &format!("constraint[{}].h", index + 1),
+                    format!(
+                        "the initial state is on constraint `{}` (h(q0) = 0) where its gradient \
+                         ∂h/∂q vanishes: there is no direction for it to act in",
+                        c.name
+                    ),
+                    "write h so that its gradient does not vanish on h = 0 (y, not y^2), or \
+                     start elsewhere",
+                ));
+            }
+            if !zenosim::admissible_start(h, &gradient, &initial.q) {
                 return Err(initial_at(
                     format!(
                         "the initial state violates constraint `{}`: h(q0) = {}, but the admissible side is h >= 0",

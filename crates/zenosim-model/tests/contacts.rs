@@ -283,3 +283,73 @@ fn a_table_with_a_leg_short_by_rounding_rests_on_four() {
         }
     }
 }
+
+/// Regression: the loader refused `h < 0` while the engine allowed the rounding of `h`'s
+/// terms, so a block put exactly on its corner by a formula whose terms round differently from
+/// `h`'s (here `h(q0) = −2.8e-17`) could not be loaded. Both now apply
+/// `zenosim::admissible_start`, relative to the size of `h`'s terms.
+#[test]
+fn a_block_put_on_its_corner_by_formula_loads_as_the_engine_accepts_it() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../models/rocking-block.toml");
+    let source = std::fs::read_to_string(path).unwrap();
+    let source = source
+        .replace(
+            "y = \"b*sin(theta0) + c*cos(theta0)\"",
+            "y = \"c*cos(theta0) + b*sin(theta0)\"",
+        )
+        .replace("theta0 = 0.2", "theta0 = 1.1");
+    let file = parse_model("rocking-block.toml", &source, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let derived = zenosim::Derived::new(&file.model).unwrap();
+    let (h, _) = derived.constraint(0, &file.initial.q);
+    // The case the loader used to refuse: h below 0 by rounding.
+    assert!(h < 0.0 && h > -1e-15, "h = {h}");
+    let (run, _) = file.run_keeping().unwrap();
+    assert_eq!(run.outcome, Outcome::Finished);
+    // Far below the surface by more than rounding is still refused, naming [initial].
+    let below = source.replace(
+        "y = \"c*cos(theta0) + b*sin(theta0)\"",
+        "y = \"c*cos(theta0) + b*sin(theta0) - 1e-9\"",
+    );
+    let error = parse_model("rocking-block.toml", &below, &[]).unwrap_err();
+    assert!(
+        error.to_string().contains("violates constraint `left`"),
+        "{error}"
+    );
+}
+
+/// Regression: a constraint that touches 0 without changing sign passed silently: with
+/// `h = y²` the ball fell 40 m "through the floor", and so did one inside a ring written
+/// `(x² + y² − 1)²`, both with exit 0. A close approach without a crossing where `∂h/∂q`
+/// vanishes is now the error an impact there gives, at the time of the touch: the free fall's
+/// closed form `t = √(2 d/g)` for the drop `d` to the surface.
+#[test]
+fn a_constraint_that_touches_zero_without_changing_sign_is_an_error_where_it_touches() {
+    let g = 9.81;
+    let cases = [
+        (
+            "coordinates = [\"y\"]\nlagrangian = \"0.5*y_dot^2 - 9.81*y\"\n\
+             [[constraint]]\nname = \"floor\"\nh = \"y^2\"\nrestitution = 0.5\n\
+             [initial]\ny = 1.0\n",
+            1.0,
+        ),
+        (
+            "coordinates = [\"x\", \"y\"]\nlagrangian = \"0.5*(x_dot^2 + y_dot^2) - 9.81*y\"\n\
+             [[constraint]]\nname = \"ring\"\nh = \"(x^2 + y^2 - 1)^2\"\nrestitution = 0.5\n\
+             [initial]\nx = 0.1\n",
+            (1.0_f64 - 0.01).sqrt(),
+        ),
+    ];
+    for (body, drop) in cases {
+        let source = format!("name = \"touch\"\n{body}[simulation]\nt_end = 2.0\n");
+        let file = parse_model("touch.toml", &source, &[]).unwrap_or_else(|e| panic!("{e}"));
+        let (run, _) = file.run_keeping().unwrap();
+        let touch = (2.0 * drop / g).sqrt();
+        match &run.outcome {
+            Outcome::Failed(zenosim::Error::DegenerateConstraint { t, .. }) => {
+                assert!((t - touch).abs() < 1e-6, "t = {t}, touch at {touch}");
+            }
+            other => panic!("{other:?}: passed through the surface"),
+        }
+        assert!(run.t_final < touch + 1e-6);
+    }
+}

@@ -73,7 +73,23 @@ fn the_bouncing_ball_s_zeno_time_follows_its_closed_form_over_restitutions_and_h
         },
     );
     assert_eq!(sweep.points().len(), 51);
+    assert_eq!(
+        sweep.columns().join(","),
+        "index,e,h0,status,impacts,t_zeno,t_switch,t_final,final_y,final_y_dot,message"
+    );
     let rows = run(&sweep, Shard::WHOLE, None);
+    let columns = sweep.columns();
+    let column = |name: &str| columns.iter().position(|c| c == name).unwrap();
+    let last = &rows[50];
+    assert_eq!(last.number(column("index")), Some(50.0));
+    assert_eq!(last.number(column("h0")), Some(2.0));
+    assert_eq!(last.number(column("status")), None);
+    assert_eq!(last.number(column("impacts")), Some(last.impacts as f64));
+    assert_eq!(last.number(column("t_zeno")), Some(last.t_zeno));
+    assert_eq!(last.number(column("t_final")), Some(last.t_final));
+    assert_eq!(last.number(column("final_y")), Some(last.q[0]));
+    assert_eq!(last.number(column("final_y_dot")), Some(last.q_dot[0]));
+    assert_eq!(last.number(column("message")), None);
     for (i, row) in rows.iter().enumerate() {
         let [e, h0] = row.values[..] else { panic!() };
         // The first axis varies slowest.

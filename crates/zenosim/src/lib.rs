@@ -68,7 +68,7 @@ pub use integrator::{Method, Tolerances};
 pub use model::{Constraint, HybridLagrangian, Scalar};
 pub use observer::{Observer, Point, Sample, Trajectory};
 pub use options::{Completion, OutputGrid, SimulationOptions, ZenoStrategy};
-pub use simulation::Simulation;
+pub use simulation::{admissible_start, Simulation};
 
 /// The README's example, compiled and run as a doctest.
 #[cfg(doctest)]

@@ -12,8 +12,9 @@ use crate::derivatives::{constraint_terms, mass_matrix, with_dimension};
 use crate::execution::ActiveSet;
 use crate::model::HybridLagrangian;
 use crate::motion::{
-    check_pivots, constrained_motion, degenerate, direction, dot, free_motion, held_acceleration,
-    pivots, route, ConstrainedMotion, Direction, PivotError, Route,
+    check_pivots, constrained_motion, degenerate, degenerate_scaled, direction, dot, free_motion,
+    held_acceleration, pivots, route, squares_trusted, ConstrainedMotion, Direction, PivotError,
+    Route,
 };
 
 /// A failure of the mechanics at one state; the caller adds the time and the state.
@@ -59,6 +60,8 @@ impl From<PivotError> for DynamicsError {
 
 /// Checks that constraint `index` can act: `M` positive definite (its pivots), and
 /// `s = A M⁻¹ Aᵀ` away from 0 against `|A|²` and `|M⁻¹Aᵀ|²`.
+/// Where the squares say it cannot but may have over- or underflowed (a model of extreme scale),
+/// `precise` decides from the vectors ([`degenerate_scaled`]); it runs only then.
 #[inline(always)]
 fn check_acting(
     pivots: &[f64],
@@ -66,19 +69,45 @@ fn check_acting(
     gradient_norm2: f64,
     w_norm2: f64,
     index: usize,
+    precise: impl FnOnce() -> bool,
 ) -> Result<(), DynamicsError> {
     check_pivots(pivots)?;
-    if degenerate(s, gradient_norm2, w_norm2) {
+    if degenerate(s, gradient_norm2, w_norm2)
+        && (squares_trusted(s, gradient_norm2, w_norm2) || precise())
+    {
         return Err(DynamicsError::DegenerateConstraint { constraint: index });
     }
     Ok(())
 }
 
 /// [`check_acting`] for a constraint's direction.
+#[inline(always)]
 fn check_direction<const N: usize>(d: &Direction<N>, index: usize) -> Result<(), DynamicsError> {
     let (gradient, w) = (d.gradient.as_slice(), d.w.as_slice());
     let (gradient_norm2, w_norm2) = (dot(gradient, gradient), dot(w, w));
-    check_acting(d.pivots.as_slice(), d.s, gradient_norm2, w_norm2, index)
+    let precise = || degenerate_scaled(d.s, gradient, w);
+    check_acting(
+        d.pivots.as_slice(),
+        d.s,
+        gradient_norm2,
+        w_norm2,
+        index,
+        precise,
+    )
+}
+
+/// [`degenerate_scaled`] of constraint `index` at `(q, q̇)`, from its direction: for the rare
+/// state where the held motion's squared norms cannot tell.
+#[cold]
+fn degenerate_at<const N: usize, L: HybridLagrangian>(
+    model: &L,
+    index: usize,
+    t: f64,
+    q: &[f64],
+    q_dot: &[f64],
+) -> bool {
+    let d = direction::<N, L>(model, index, t, q, q_dot);
+    degenerate_scaled(d.s, d.gradient.as_slice(), d.w.as_slice())
 }
 
 /// `q̈ = acc` into `q_ddot`, unless it or the multiplier `λ` is not finite. Inlined, so that
@@ -251,12 +280,18 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         let Route::Whole(compiled) = route(self.model) else {
             return None;
         };
-        compiled.held_view::<N, _>(index, t, q, q_dot, |held| {
+        // No program may run while this one's outputs are read: where the squares cannot tell
+        // whether the constraint acts (`|| true` keeps their verdict), the general path decides.
+        let held = compiled.held_view::<N, _>(index, t, q, q_dot, |held| {
             let (s, gradient_norm2, w_norm2) = held.acting();
-            check_acting(held.pivots(), s, gradient_norm2, w_norm2, index)?;
+            check_acting(held.pivots(), s, gradient_norm2, w_norm2, index, || true)?;
             write_finite(held.acc(), held.lambda(), q_ddot)?;
             Ok(held.lambda())
-        })
+        });
+        match held {
+            Some(Err(DynamicsError::DegenerateConstraint { .. })) => None,
+            held => held,
+        }
     }
 
     fn acceleration_n<const N: usize>(
@@ -281,6 +316,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
                     held.gradient_norm2,
                     held.w_norm2,
                     index,
+                    || degenerate_at::<N, L>(self.model, index, t, q, q_dot),
                 )?;
                 (held.acc, held.lambda)
             }

@@ -504,9 +504,45 @@ pub(crate) fn direction<const N: usize, L: HybridLagrangian>(
 
 /// Whether a constraint has no direction to act in: `s = A M⁻¹ Aᵀ` is not positive, or
 /// negligible against `|A| |M⁻¹Aᵀ|` (`s = |A|²/μ` with `μ` an eigenvalue of `M`, so the
-/// comparison is free of scale), or `A = 0`. From the squares of the norms.
+/// comparison is free of scale), or `A = 0`. From the squares of the norms, which a model of
+/// extreme scale over- or underflows (a mass of 1e-156 makes `|M⁻¹Aᵀ|² = ∞`): a verdict of
+/// "degenerate" stands only where [`squares_trusted`], and [`degenerate_scaled`] decides
+/// otherwise. (A verdict of "acting" is sound: `s²` above the bound is no artefact.)
 pub(crate) fn degenerate(s: f64, gradient_norm2: f64, w_norm2: f64) -> bool {
     s.is_nan() || s <= 0.0 || s * s <= 1e-28 * gradient_norm2 * w_norm2 || gradient_norm2 == 0.0
+}
+
+/// Whether [`degenerate`]'s verdict is exact: `s` not positive, or the squares and the bound
+/// normal numbers (neither overflowed nor underflowed).
+#[cold]
+pub(crate) fn squares_trusted(s: f64, gradient_norm2: f64, w_norm2: f64) -> bool {
+    s.is_nan()
+        || s <= 0.0
+        || [
+            s * s,
+            1e-28 * gradient_norm2 * w_norm2,
+            gradient_norm2,
+            w_norm2,
+        ]
+        .iter()
+        .all(|x| x.is_normal())
+}
+
+/// [`degenerate`] from `s` and the vectors `A` and `M⁻¹Aᵀ`, with norms that neither overflow nor
+/// underflow for finite vectors: for any scale of the model.
+pub(crate) fn degenerate_scaled(s: f64, gradient: &[f64], w: &[f64]) -> bool {
+    let (a, w) = (scaled_norm(gradient), scaled_norm(w));
+    let cosine = s / a / w;
+    s.is_nan() || s <= 0.0 || a == 0.0 || cosine.is_nan() || cosine <= 1e-14
+}
+
+/// `|x|`, scaled by its largest entry so that the squares neither overflow nor underflow.
+pub(crate) fn scaled_norm(x: &[f64]) -> f64 {
+    let largest = x.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    if largest == 0.0 || !largest.is_finite() {
+        return largest;
+    }
+    largest * x.iter().map(|v| (v / largest).powi(2)).sum::<f64>().sqrt()
 }
 
 /// The pivots of `m`'s Cholesky factorisation (see [`check_pivots`]).
@@ -571,6 +607,27 @@ mod tests {
         assert!(residual < 1e-14, "residual {residual:e}");
         let l = factor.l;
         assert!((l * l.transpose() - m).norm() < 1e-14);
+    }
+
+    #[test]
+    fn the_acting_test_defers_where_the_squares_overflow_and_decides_from_the_vectors() {
+        // A ball of mass 1e-156: A = 1, w = M⁻¹Aᵀ = 1e156, s = 1e156; |w|² overflows.
+        assert!(degenerate(1e156, 1.0, f64::INFINITY));
+        assert!(!squares_trusted(1e156, 1.0, f64::INFINITY));
+        assert!(!degenerate_scaled(1e156, &[1.0], &[1e156]));
+        // Of mass 1e201: s = 1e-201, and s², |w|² underflow to 0.
+        assert!(degenerate(1e-201, 1.0, 0.0));
+        assert!(!squares_trusted(1e-201, 1.0, 0.0));
+        assert!(!degenerate_scaled(1e-201, &[1.0], &[1e-201]));
+        // Ordinary scales are decided by the squares, and a vanishing or orthogonal gradient
+        // is degenerate at any scale.
+        assert!(!degenerate(2.0, 4.0, 1.0));
+        assert!(degenerate(1e-20, 1.0, 1.0) && squares_trusted(1e-20, 1.0, 1.0));
+        assert!(degenerate_scaled(0.0, &[0.0, 0.0], &[0.0, 0.0]));
+        assert!(degenerate_scaled(1e-300, &[1e150, 0.0], &[0.0, 1e150]));
+        // Pythagoras, to rounding, where the squares would overflow and underflow.
+        assert!((scaled_norm(&[3e200, 4e200]) / 5e200 - 1.0).abs() < 4.0 * f64::EPSILON);
+        assert!((scaled_norm(&[3e-200, 4e-200]) / 5e-200 - 1.0).abs() < 4.0 * f64::EPSILON);
     }
 
     #[test]

@@ -67,10 +67,7 @@ impl<'a, L: HybridLagrangian> Simulation<'a, L> {
                 });
             }
             let (h, gradient) = derived.constraint(index, q0);
-            // A start on the surface may carry round-off (h = −1e-17 for x3 = sin x2), of the
-            // size of h's terms (coordinates h ignores do not count).
-            let scale = guard_scale(h, &gradient, q0).max(1.0);
-            if h.is_nan() || h < -1e-12 * scale {
+            if !admissible_start(h, &gradient, q0) {
                 return Err(Error::Inadmissible {
                     constraint: c.name.clone(),
                     h,
@@ -110,6 +107,19 @@ impl<'a, L: HybridLagrangian> Simulation<'a, L> {
         Runner::new(self, observer).run()
     }
 }
+
+/// The rule for an initial state, the one zenosim and its model files apply: `h(q0)` is on the
+/// admissible side, or below it by no more than its rounding, `h ≥ −10⁻¹² (|h| + Σ|A_i q0_i|)`.
+/// A start placed on the surface by a formula carries the round-off of `h`'s terms (`h` of a
+/// block's corner is −5.6·10⁻¹⁷ for a block put on it with the same trigonometry in another
+/// order), and the size of those terms, not a fixed unit, says what is round-off: the rule is
+/// the same for a model written in metres or in nanometres (docs/contact-laws.md).
+pub fn admissible_start(h: f64, gradient: &[f64], q0: &[f64]) -> bool {
+    h >= -START_ROUND_OFF * guard_scale(h, gradient, q0)
+}
+
+/// The relative rounding [`admissible_start`] allows `h(q0)` below 0.
+const START_ROUND_OFF: f64 = 1e-12;
 
 /// Refuses a model that declares itself autonomous but whose `L` or `h` change with `t` at the
 /// initial state, or that has a force or a dissipation there: zenosim would otherwise leave out

@@ -73,6 +73,39 @@ fn widest<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[Entry]) 
         .max()
 }
 
+/// `(low, high)` as an axis range that plotters can place ticks on: finite, at most `f64::MAX`
+/// wide, and wide enough for `f64` to resolve its ticks (at least 2⁻³⁶ of its largest end).
+/// Outside that, plotters' tick generator never ends: steps of infinity, or below the spacing of
+/// the numbers they are added to (a range 1.7e308 wide, or 1e15 to 1e15 + 1e-3). NaN ends become
+/// 0, infinite ones ±`f64::MAX`; a range wider than `f64::MAX` keeps its upper end, and a narrow
+/// one is widened about its middle.
+pub fn drawable((low, high): (f64, f64)) -> std::ops::Range<f64> {
+    let clamp = |x: f64| {
+        if x.is_nan() {
+            0.0
+        } else {
+            x.clamp(-f64::MAX, f64::MAX)
+        }
+    };
+    let (low, high) = (clamp(low), clamp(high));
+    let (mut low, mut high) = (low.min(high), low.max(high));
+    if (high - low).is_infinite() {
+        low = high - f64::MAX;
+    }
+    let size = low.abs().max(high.abs());
+    let narrowest = if size > 0.0 {
+        size * 2f64.powi(-36)
+    } else {
+        1.0
+    };
+    if high - low < narrowest {
+        let middle = low / 2.0 + high / 2.0;
+        low = (middle - narrowest / 2.0).max(-f64::MAX);
+        high = (middle + narrowest / 2.0).min(f64::MAX);
+    }
+    low..high
+}
+
 /// A chart builder on `area` with `caption`, room for the axes' labels and, on the right, for
 /// the legend of `entries`.
 pub fn frame<'a, DB: DrawingBackend>(
@@ -195,4 +228,29 @@ pub fn note(color: RGBColor, h: HPos, v: VPos) -> TextStyle<'static> {
         .into_font()
         .color(&color)
         .pos(Pos::new(h, v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::drawable;
+
+    #[test]
+    fn drawable_ranges_are_finite_and_resolvable() {
+        // Ordinary ranges are kept.
+        assert_eq!(drawable((-1.0, 10.5)), -1.0..10.5);
+        // Infinite or NaN ends, and spans wider than f64 holds.
+        let r = drawable((f64::NEG_INFINITY, f64::INFINITY));
+        assert!(r.start.is_finite() && r.end == f64::MAX && (r.end - r.start).is_finite());
+        assert_eq!(drawable((f64::NAN, 2.0)), 0.0..2.0);
+        let r = drawable((-1.7e308, 1.7e308));
+        assert_eq!(r.end, 1.7e308);
+        assert!((r.end - r.start).is_finite());
+        // Too narrow for ticks: widened about the middle to 2^-36 of its size.
+        let r = drawable((1e15, 1e15 + 1e-3));
+        assert!(r.start < 1e15 && r.end > 1e15 + 1e-3);
+        assert!((r.end - r.start) >= 1e15 * 2f64.powi(-36));
+        assert_eq!(drawable((0.0, 0.0)), -0.5..0.5);
+        let r = drawable((f64::MAX, f64::MAX));
+        assert!(r.end == f64::MAX && r.start < f64::MAX);
+    }
 }

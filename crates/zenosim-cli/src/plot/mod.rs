@@ -19,6 +19,7 @@ mod scene;
 mod sequences;
 mod style;
 mod svg;
+mod sweep_map;
 mod time_chart;
 mod trajectory_file;
 mod work_precision;
@@ -32,6 +33,7 @@ use anyhow::{anyhow, Context};
 
 pub use canvas::Format;
 pub use style::short;
+pub use sweep_map::{draw_map, MapSpec};
 pub use work_precision::work_precision;
 
 use crate::cli::PlotArgs;
@@ -128,7 +130,7 @@ pub fn draw(dir: &Path, format: Format, plane: Option<&Plane>) -> Result<Vec<Pat
     };
     let scene = Scene::load(&dir.join(TRAJECTORY), record, columns).bad_input()?;
 
-    let out = OutputDir::existing(dir);
+    let out = OutputDir::existing(dir).output()?;
     let mut written = Vec::new();
     let mut write = |name: &str, bytes: anyhow::Result<Vec<u8>>| {
         let (partial, mut file) = out

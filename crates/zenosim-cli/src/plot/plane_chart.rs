@@ -11,7 +11,7 @@ use plotters::style::text_anchor::{HPos, VPos};
 use plotters_backend::DrawingBackend;
 
 use super::canvas::{Drawn, Picture};
-use super::chart::{axes, frame, legend, note, Entry, Sample};
+use super::chart::{axes, drawable, frame, legend, note, Entry, Sample};
 use super::record::StateRecord;
 use super::scene::Scene;
 use super::style::{color, short, IMPACT, LIFTOFF, LINE_WIDTH, SURFACES, SWITCH};
@@ -87,7 +87,7 @@ pub fn draw_plane<DB: DrawingBackend>(
     }
 
     let mut chart = frame(area, caption, &entries)
-        .build_cartesian_2d(bounds.x.0..bounds.x.1, bounds.y.0..bounds.y.1)?;
+        .build_cartesian_2d(drawable(bounds.x), drawable(bounds.y))?;
     axes(&mut chart, layer, scene.name(px), scene.name(py))?;
     for (curve, &style) in scene.curves.iter().zip(&surfaces) {
         layer.set("constraint", &curve.constraint);

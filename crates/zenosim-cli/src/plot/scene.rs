@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use super::chart::drawable;
 use super::contour::zero_set;
 use super::decimate::Bounds;
 use super::record::Record;
@@ -115,15 +116,21 @@ fn curves(record: &Record, plane: (usize, usize), bounds: Bounds) -> Vec<Curve> 
 }
 
 /// `(low, high)` widened by `below` and `above` of its span (by 1, or a tenth of its size,
-/// when it is a single value).
+/// when it is a single value), and kept [`drawable`]: finite however large its ends.
 pub fn pad((low, high): (f64, f64), below: f64, above: f64) -> (f64, f64) {
-    let span = high - low;
-    if span > 0.0 {
-        (low - below * span, high + above * span)
+    // Halves first: the span of ends near ±f64::MAX is finite only so.
+    let half_span = high / 2.0 - low / 2.0;
+    let (low, high) = if half_span > 0.0 {
+        (
+            low - 2.0 * below * half_span,
+            high + 2.0 * above * half_span,
+        )
     } else {
         let half = if low == 0.0 { 1.0 } else { 0.1 * low.abs() };
         (low - half, high + half)
-    }
+    };
+    let range = drawable((low, high));
+    (range.start, range.end)
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@ use plotters::style::text_anchor::{HPos, VPos};
 use plotters_backend::DrawingBackend;
 
 use super::canvas::{Drawn, Picture};
-use super::chart::{axes, frame, legend, note, Entry, Sample};
+use super::chart::{axes, drawable, frame, legend, note, Entry, Sample};
 use super::scene::{pad, Scene};
 use super::style::{color, short, IMPACT, LIFTOFF, LINE_WIDTH, SWITCH};
 use super::svg::Layer;
@@ -160,7 +160,8 @@ pub fn draw_time<DB: DrawingBackend>(
         entries.push(Entry::new(label, Sample::Triangle(LIFTOFF.filled())));
     }
 
-    let mut chart = frame(area, caption, &entries).build_cartesian_2d(t0..t1, low..high)?;
+    let mut chart = frame(area, caption, &entries)
+        .build_cartesian_2d(drawable((t0, t1)), drawable((low, high)))?;
     axes(&mut chart, layer, "t", quantity.axis())?;
     for ((s, name), style) in series.zip(&names).zip(styles) {
         layer.set("series", name);

@@ -20,6 +20,11 @@ use crate::trajectory::{self, WORK_COLUMNS};
 
 /// Columns of the time axis kept per series: twice the widest plot's pixels.
 const TIME_COLUMNS: usize = 2048;
+/// The most columns kept over all series (about 75 MB): a run of many coordinates keeps fewer
+/// columns per series, so that memory is bounded whatever `summary.json` lists.
+const TIME_CELLS: usize = 1 << 20;
+/// The most characters of a file's text quoted in a message.
+const QUOTED: usize = 200;
 /// Cells across the plane plot's box: about twice its pixels.
 const PLANE_CELLS: usize = 1600;
 /// The most points drawn between two rows.
@@ -45,9 +50,14 @@ pub struct Trajectory {
 pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Result<Trajectory> {
     let display = path.display();
     let file = File::open(path).with_context(|| format!("cannot read {display}"))?;
+    // No line of a trajectory of these columns is longer than this: a longer one (a file of
+    // one line of 1 GB) is refused as it is read, not held in memory.
+    let header = trajectory::header(record.columns(), &record.constraints, true);
+    let header_bytes: usize = header.iter().map(|name| name.len() + 1).sum();
+    let longest = 4096 + 2 * header_bytes + 32 * header.len();
     let mut csv = csv::ReaderBuilder::new()
         .buffer_capacity(1 << 16)
-        .from_reader(file);
+        .from_reader(LineLimit::new(file, longest));
     let header = csv
         .byte_headers()
         .map_err(|error| anyhow!("{display}:1: {error}"))?
@@ -63,7 +73,8 @@ pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Resu
     // The series: q, q̇, the energy, and E(0) + work − impact loss.
     let series = 2 * n + 1 + usize::from(balance);
     let (t_start, t_end) = record.time_span();
-    let mut lines = TimeDecimator::new(series, t_start, t_end, TIME_COLUMNS);
+    let columns = TIME_COLUMNS.min(TIME_CELLS / series).max(1);
+    let mut lines = TimeDecimator::new(series, t_start, t_end, columns);
     let mut plane_path = PathDecimator::new(PLANE_CELLS);
     let mut row = csv::ByteRecord::new();
     let mut values = vec![0.0; series];
@@ -71,7 +82,7 @@ pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Resu
     let mut between = vec![0.0; series];
     // E(0): the first row's energy less its balance (0 at the start).
     let mut energy_start = None;
-    let column = (t_end - t_start) / TIME_COLUMNS as f64;
+    let column = (t_end - t_start) / columns as f64;
     let mut rows = 0;
     loop {
         match csv.read_byte_record(&mut row) {
@@ -91,8 +102,8 @@ pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Resu
                 .ok_or_else(|| {
                     anyhow!(
                         "{display}:{line}: column {}: `{}` is not a number",
-                        names[column],
-                        String::from_utf8_lossy(text)
+                        quote(&names[column]),
+                        quote(&String::from_utf8_lossy(text))
                     )
                 })
         };
@@ -195,11 +206,58 @@ fn check_header(header: &csv::ByteRecord, record: &Record) -> Result<(Vec<String
     Err(format!(
         "the header is `{}`, expected `{}` (and `{}` after it, for a model that is not \
          autonomous) for {} coordinates and {m} constraints",
-        names.join(","),
-        trajectory::header(record.columns(), &record.constraints, false).join(","),
+        quote(&names.join(",")),
+        quote(&trajectory::header(record.columns(), &record.constraints, false).join(",")),
         WORK_COLUMNS.join(","),
         record.coordinates.len()
     ))
+}
+
+/// `text` for a message: at most [`QUOTED`] characters of it, and how long it is when longer.
+fn quote(text: &str) -> String {
+    match text.char_indices().nth(QUOTED) {
+        None => text.to_string(),
+        Some((end, _)) => format!("{}… ({} bytes in all)", &text[..end], text.len()),
+    }
+}
+
+/// A reader that fails once a line grows longer than its limit, so that a malformed file (one
+/// line of a gigabyte) costs no more memory than the longest line it may hold.
+struct LineLimit<R> {
+    inner: R,
+    limit: usize,
+    /// Bytes read since the last newline.
+    line: usize,
+}
+
+impl<R> LineLimit<R> {
+    fn new(inner: R, limit: usize) -> Self {
+        Self {
+            inner,
+            limit,
+            line: 0,
+        }
+    }
+}
+
+impl<R: std::io::Read> std::io::Read for LineLimit<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let read = self.inner.read(buf)?;
+        for &byte in &buf[..read] {
+            self.line = if byte == b'\n' { 0 } else { self.line + 1 };
+            if self.line > self.limit {
+                return Err(std::io::Error::new(
+                    std::io::ErrorKind::InvalidData,
+                    format!(
+                        "a line is longer than {} bytes, more than any row of these columns \
+                         takes: this is not the run's trajectory",
+                        self.limit
+                    ),
+                ));
+            }
+        }
+        Ok(read)
+    }
 }
 
 /// What is wrong with a row, in words.

@@ -343,7 +343,7 @@ fn format_of(path: &Path) -> anyhow::Result<Format> {
 }
 
 /// Writes `bytes` to `path` under a temporary name, renamed once complete.
-fn write_file(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+pub fn write_file(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     let dir = match path.parent() {
         Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
         _ => PathBuf::from("."),

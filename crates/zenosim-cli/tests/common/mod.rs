@@ -132,6 +132,20 @@ impl Scratch {
             .expect("zenosim runs")
     }
 
+    /// Runs `zenosim <args>` in the scratch directory with its files limited to `blocks` blocks
+    /// of 512 bytes (a shell's `ulimit -f`): a write past it fails as on a full disk.
+    #[cfg(unix)]
+    pub fn zenosim_limited(&self, blocks: u32, args: &[&str]) -> Output {
+        Command::new("sh")
+            .arg("-c")
+            .arg(format!("ulimit -f {blocks} && exec \"$0\" \"$@\""))
+            .arg(binary())
+            .args(args)
+            .current_dir(self.dir.path())
+            .output()
+            .expect("sh runs zenosim")
+    }
+
     /// `zenosim run model.toml --out out <args>`.
     pub fn run(&self, args: &[&str]) -> Output {
         let mut all = vec!["run", "model.toml", "--out", "out"];

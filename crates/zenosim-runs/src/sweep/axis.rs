@@ -4,6 +4,9 @@ use std::str::FromStr;
 
 use super::SweepError;
 
+/// The most values an axis takes (80 MB of them): a sweep of more runs is split into shards.
+pub const MAX_VALUES: usize = 10_000_000;
+
 /// A parameter or initial value of the model and the values it takes, in order.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Axis {
@@ -24,7 +27,7 @@ impl Axis {
         Ok(Self { name, values })
     }
 
-    /// `count` evenly spaced values from `start` to `stop`, both included (`count = 1`:
+    /// `count` evenly spaced values (at most [`MAX_VALUES`]) from `start` to `stop`, both included (`count = 1`:
     /// `start` alone). The values are those of numpy's `linspace`: `start + i·step` with
     /// `step = (stop − start)/(count − 1)`, the last one `stop` exactly.
     pub fn range(
@@ -33,6 +36,9 @@ impl Axis {
         stop: f64,
         count: usize,
     ) -> Result<Self, SweepError> {
+        if count > MAX_VALUES {
+            return Err(SweepError::TooManyPoints);
+        }
         let values = match count {
             0 => Vec::new(),
             1 => vec![start],
@@ -107,10 +113,10 @@ impl FromStr for Axis {
                 )));
             };
             let count = match count.trim().parse::<usize>() {
-                Ok(n) if n >= 1 => n,
+                Ok(n) if (1..=MAX_VALUES).contains(&n) => n,
                 _ => {
                     return Err(syntax(format!(
-                        "the count `{}` is not a whole number ≥ 1",
+                        "the count `{}` is not a whole number from 1 to {MAX_VALUES}",
                         count.trim()
                     )))
                 }
@@ -169,7 +175,8 @@ mod tests {
         assert!(error("e=").contains("a value is missing"));
         assert!(error("e=inf").contains("`inf` is not a finite number"));
         assert!(error("e=0:1").contains("three parts START:STOP:COUNT, not 2"));
-        assert!(error("e=0:1:0").contains("the count `0` is not a whole number ≥ 1"));
+        assert!(error("e=0:1:0").contains("the count `0` is not a whole number from 1 to"));
+        assert!(error("e=0:1:10000001").contains("from 1 to 10000000"));
         assert!(error("e=0:1:2.5").contains("the count `2.5`"));
         assert!(error("e=a:1:3").contains("`a` is not a number"));
         let huge = error("e=-1e308:1e308:3");

@@ -62,9 +62,26 @@ pub enum SweepError {
         /// Each axis with its length (`e has 3 values, h0 has 4`).
         lengths: String,
     },
-    /// More points than can be counted.
-    #[error("the product of the axes has more points than can be counted: vary fewer values")]
+    /// More points than can be counted, or an axis of more than [`super::axis::MAX_VALUES`].
+    #[error(
+        "the sweep has more points than can be counted, or an axis of more than 10 000 000 \
+         values: vary fewer values"
+    )]
     TooManyPoints,
+    /// More runs in one process than its rows fit in memory.
+    #[error(
+        "this sweep runs {runs} points in one process, more than the {max} whose rows it holds \
+         at once: split it into {shards} or more shards (--shard K/{shards}, joined by \
+         `zenosim merge`)"
+    )]
+    TooManyRuns {
+        /// The points of the sweep (or shard).
+        runs: usize,
+        /// [`super::MAX_RUNS`].
+        max: usize,
+        /// The fewest shards that fit.
+        shards: usize,
+    },
     /// A shard that cannot be read or does not exist.
     #[error("shard `{spec}`: {reason}; write K/N with 1 ≤ K ≤ N (e.g. 2/3: the second of three)")]
     Shard {

@@ -34,8 +34,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use rayon::prelude::*;
-use zenosim::{HybridLagrangian, Observer, Simulation};
-use zenosim_model::{Limits, ModelError, Override};
+use zenosim::{Derived, HybridLagrangian, Observer, Simulation};
+use zenosim_model::{FileModel, Limits, ModelError, ModelFile, Override};
 
 pub use axis::Axis;
 pub use error::SweepError;
@@ -45,6 +45,10 @@ pub use settings::RunSettings;
 pub use shard::Shard;
 
 use crate::summary::constraint_names;
+
+/// The most runs of one process (one shard): their rows, about 500 bytes each, are held until
+/// the table is complete (1 GB at most).
+pub const MAX_RUNS: usize = 2_000_000;
 use crate::Status;
 
 /// A sweep over a model file: its points, and the settings of every run.
@@ -58,6 +62,23 @@ pub struct Sweep {
     velocities: Vec<String>,
     points: Points,
     settings: RunSettings,
+    /// The file read without changes.
+    base: ModelFile,
+    /// Its constraints' names.
+    constraints: Vec<String>,
+    /// Where each axis goes in the initial state, when every axis is an initial value of a
+    /// model without forces or dissipation: then a point's model is the base's, and only its
+    /// initial state changes ([`Sweep::run_point`]).
+    state_slots: Option<Vec<Slot>>,
+}
+
+/// An entry of the initial state.
+#[derive(Clone, Copy, Debug)]
+enum Slot {
+    /// A coordinate.
+    Q(usize),
+    /// A velocity.
+    QDot(usize),
 }
 
 /// The rows of a sweep (or of a shard of it), in the order of their points.
@@ -110,15 +131,27 @@ impl Sweep {
                 file: file.to_string(),
                 source,
             })?;
+        let slot = |name: &str| {
+            let q = coordinates.iter().position(|c| c == name).map(Slot::Q);
+            q.or_else(|| velocities.iter().position(|c| c == name).map(Slot::QDot))
+        };
+        let state_slots = if base.model.is_autonomous() {
+            points.names().into_iter().map(slot).collect()
+        } else {
+            None
+        };
         Ok(Self {
             file: file.to_string(),
             source: source.to_string(),
             limits,
-            model: base.name,
+            model: base.name.clone(),
             coordinates,
             velocities,
             points,
             settings,
+            constraints: constraint_names(&base),
+            base,
+            state_slots,
         })
     }
 
@@ -152,6 +185,25 @@ impl Sweep {
         &self.settings
     }
 
+    /// The names of a row's columns, as the table reports them: `index`, the axes' names,
+    /// `status`, `impacts`, `t_zeno`, `t_switch`, `t_final`, `final_<coordinate>` for each
+    /// coordinate, `final_<coordinate>_dot` for each velocity, and `message`.
+    pub fn columns(&self) -> Vec<String> {
+        let start = std::iter::once("index").chain(self.points.names());
+        let outcome = ["status", "impacts", "t_zeno", "t_switch", "t_final"];
+        start
+            .chain(outcome)
+            .map(str::to_string)
+            .chain(
+                self.coordinates
+                    .iter()
+                    .chain(&self.velocities)
+                    .map(|name| format!("final_{name}")),
+            )
+            .chain(std::iter::once("message".to_string()))
+            .collect()
+    }
+
     /// Runs point `index` (< `self.points().len()`); it stops at its next step once `cancel` is
     /// set. Never panics: a run that cannot complete at all is a [`Status::Failed`] row.
     pub fn run_point(&self, index: usize, cancel: &AtomicBool) -> Row {
@@ -177,7 +229,40 @@ impl Sweep {
     }
 
     /// The run of point `index`, or why the model refuses its values.
+    ///
+    /// Where only initial values vary (of a model without forces or dissipation), the model
+    /// file is the same at every point but for its initial state, which the file's own checks
+    /// of an initial state (admissible, finite, a positive definite mass matrix) accept or not:
+    /// a point they accept runs the model read once, and gives the same row as reading the file
+    /// with the point's values would (tested); a point they refuse is read in full, for the
+    /// file's own message.
     fn try_point(&self, index: usize, values: &[f64], cancel: &AtomicBool) -> Result<Row, String> {
+        if let Some(slots) = &self.state_slots {
+            let (mut q, mut q_dot) = (self.base.initial.q.clone(), self.base.initial.q_dot.clone());
+            for (slot, &value) in slots.iter().zip(values) {
+                match *slot {
+                    Slot::Q(i) => q[i] = value,
+                    Slot::QDot(i) => q_dot[i] = value,
+                }
+            }
+            if file_accepts(&self.base.model, &q, &q_dot) {
+                let options = self.settings.apply(self.base.options());
+                let simulation = Simulation::new(&self.base.model, &q, &q_dot, options)
+                    .map_err(|error| format!("invalid: cannot simulate this point: {error}"))?;
+                let run = simulation.run(&mut Cancel(cancel));
+                return Ok(Row::of(index, values.to_vec(), &run, &self.constraints));
+            }
+        }
+        self.try_point_read(index, values, cancel)
+    }
+
+    /// [`Sweep::try_point`], the model file read with the point's values.
+    fn try_point_read(
+        &self,
+        index: usize,
+        values: &[f64],
+        cancel: &AtomicBool,
+    ) -> Result<Row, String> {
         let overrides: Vec<Override> = self
             .points
             .names()
@@ -196,12 +281,22 @@ impl Sweep {
             Simulation::new(&file.model, &file.initial.q, &file.initial.q_dot, options)
                 .map_err(|error| format!("invalid: cannot simulate this point: {error}"))?;
         let run = simulation.run(&mut Cancel(cancel));
-        Ok(Row::of(
-            index,
-            values.to_vec(),
-            &run,
-            &constraint_names(&file),
-        ))
+        Ok(Row::of(index, values.to_vec(), &run, &self.constraints))
+    }
+
+    /// Whether `shard` of this sweep fits in one process: at most [`MAX_RUNS`] runs, whose rows
+    /// are held until the table is complete. Checked by [`Sweep::run`] before anything runs.
+    pub fn check_runs(&self, shard: Shard) -> Result<(), SweepError> {
+        let runs = shard.len_of(self.points.len());
+        if runs > MAX_RUNS {
+            let shards = self.points.len().div_ceil(MAX_RUNS).max(shard.count() + 1);
+            return Err(SweepError::TooManyRuns {
+                runs,
+                max: MAX_RUNS,
+                shards,
+            });
+        }
+        Ok(())
     }
 
     /// Runs the points of `shard` on `workers` threads (`None`: one per core, rayon's global
@@ -219,6 +314,7 @@ impl Sweep {
     where
         P: Fn(usize, usize) + Sync,
     {
+        self.check_runs(shard)?;
         let indices: Vec<usize> = shard.indices(self.points.len()).collect();
         let total = indices.len();
         let done = AtomicUsize::new(0);
@@ -258,6 +354,30 @@ impl Sweep {
     }
 }
 
+/// Whether a model file accepts `(q, q̇)` as its initial state: the checks `zenosim_model` makes
+/// of `[initial]` (every `h` and its gradient finite, `h` admissible by
+/// [`zenosim::admissible_start`], the energy and the mass matrix finite, the mass matrix
+/// positive definite), for a model without forces or dissipation (whose forces it would check
+/// too). They must never accept what the loader refuses: keep them in step with its
+/// `check_initial_state` (a point they refuse is read in full, so being stricter is safe).
+fn file_accepts(model: &FileModel, q: &[f64], q_dot: &[f64]) -> bool {
+    let Ok(derived) = Derived::new(model) else {
+        return false;
+    };
+    let admissible = (0..model.constraints().len()).all(|index| {
+        let (h, gradient) = derived.constraint(index, q);
+        h.is_finite()
+            && gradient.iter().all(|a| a.is_finite())
+            && zenosim::admissible_start(h, &gradient, q)
+    });
+    if !admissible {
+        return false;
+    }
+    let (mass, positive) = derived.mass_matrix(q, q_dot);
+    let energy = derived.energy(q, q_dot);
+    energy.is_finite() && mass.iter().all(|m| m.is_finite()) && positive
+}
+
 /// `value` written so that the model file's formulas read it back exactly (Rust's `Debug` of
 /// an `f64` is its shortest round-trip form, with a decimal point or an exponent).
 fn exact(value: f64) -> String {
@@ -290,6 +410,49 @@ impl Observer for Cancel<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn model(name: &str) -> String {
+        let path = format!("{}/../../models/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        std::fs::read_to_string(path).unwrap()
+    }
+
+    fn sweep_of(name: &str, axes: &[&str]) -> Sweep {
+        let axes = axes.iter().map(|a| a.parse().unwrap()).collect();
+        let points = Points::new(axes, Combine::Product).unwrap();
+        let settings = RunSettings {
+            t_end: Some(2.5),
+            ..Default::default()
+        };
+        Sweep::new(name, &model(name), Limits::default(), points, settings).unwrap()
+    }
+
+    #[test]
+    fn initial_values_run_the_model_read_once_with_the_same_rows() {
+        // The paper's ball over its start: x3 = sin(1) − 1e-15 is within round-off of the
+        // surface at x2 = 1 (admitted), −1e-9 below it is not; x3 = −0.5 is far below.
+        let sin = 1.0f64.sin();
+        let x3 = format!("x3={},{},{},2,-0.5", sin, sin - 1e-15, sin - 1e-9);
+        let sweep = sweep_of("ball-on-sine", &["x2=1,1.5", &x3, "x1_dot=0,0.5"]);
+        assert!(sweep.state_slots.is_some());
+        let never = AtomicBool::new(false);
+        let mut invalid = 0;
+        for index in 0..sweep.points().len() {
+            let values = sweep.points().point(index);
+            let fast = sweep.try_point(index, &values, &never);
+            let read = sweep.try_point_read(index, &values, &never);
+            assert_eq!(format!("{fast:?}"), format!("{read:?}"), "point {values:?}");
+            invalid += usize::from(read.is_err());
+        }
+        // Below the surface, for both velocities: at x2 = 1, x3 = sin(1) − 1e-9 and −0.5; at
+        // x2 = 1.5 (sin 1.5 > sin 1), all but x3 = 2.
+        assert_eq!(invalid, 12);
+        // A parameter, or a model with forces: every point is read.
+        assert!(sweep_of("ball-on-sine", &["g=9,10"]).state_slots.is_none());
+        assert!(sweep_of("ball-on-sine", &["g=9", "x3=2"])
+            .state_slots
+            .is_none());
+        assert!(sweep_of("dragged-ball", &["y=1,2"]).state_slots.is_none());
+    }
 
     #[test]
     fn values_are_written_to_read_back_exactly() {

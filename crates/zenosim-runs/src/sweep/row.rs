@@ -74,4 +74,26 @@ impl Row {
             q_dot: vec![f64::NAN; dimension],
         }
     }
+
+    /// The number in column `column` of [`super::Sweep::columns`]: the index, a value, the
+    /// impacts, a time or a final coordinate or velocity; `None` for `status` and `message`
+    /// (and past the last column).
+    pub fn number(&self, column: usize) -> Option<f64> {
+        let axes = self.values.len();
+        let n = self.q.len();
+        match column {
+            0 => Some(self.index as f64),
+            c if c <= axes => Some(self.values[c - 1]),
+            c => match c - axes {
+                1 => None,
+                2 => Some(self.impacts as f64),
+                3 => Some(self.t_zeno),
+                4 => Some(self.t_switch),
+                5 => Some(self.t_final),
+                k if k < 6 + n => Some(self.q[k - 6]),
+                k if k < 6 + 2 * n => Some(self.q_dot[k - 6 - n]),
+                _ => None,
+            },
+        }
+    }
 }

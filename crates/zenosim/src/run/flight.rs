@@ -246,22 +246,62 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         for index in (0..m).filter(|&i| !held.contains(i)) {
             let (stepper, mech, n) = (&self.stepper, self.mech, self.n);
             let mut y = std::mem::take(&mut self.scratch);
+            // The guard's lowest and highest values seen: a close approach without a crossing
+            // may be a constraint that touches 0 without changing sign ([`Runner::touched`]).
+            let (mut lowest, mut highest) = ((f64::INFINITY, t0), 0.0_f64);
             let crossing = first_crossing(t0, t1, |t| {
                 interpolate(stepper, cubic, t, &mut y);
                 // Best effort: a failed projection just leaves the sample as it is.
                 let _ = project_onto(&mech, held, t, n, &mut y);
                 let (h, h_dot, _) = guard_along(mech.model(), index, t, &y[..n], &y[n..]);
+                if h < lowest.0 {
+                    lowest = (h, t);
+                }
+                highest = highest.max(h);
                 (h, Some(h_dot))
             });
             self.scratch = y;
-            if let Some(c) = crossing {
-                let t = c.t_admissible;
-                if found.is_none_or(|(_, t_other)| t < t_other) {
-                    found = Some((index, t));
+            match crossing {
+                Some(c) => {
+                    let t = c.t_admissible;
+                    if found.is_none_or(|(_, t_other)| t < t_other) {
+                        found = Some((index, t));
+                    }
                 }
+                None if lowest.0 <= 1e-6 * highest => self.touched(index, lowest.1, held)?,
+                None => {}
             }
         }
         Ok(found)
+    }
+
+    /// Constraint `index` came close to 0 at `t` in the last step without crossing it: an error
+    /// if it touched `h = 0` where `∂h/∂q` vanishes (`h = y²`, `h = (x² + y² − 1)²`), which no
+    /// sign change reveals, so that the body would pass through the surface unseen. A graze of
+    /// a regular surface (`∂h/∂q` away from 0) is no error. The test is the one an impact makes
+    /// ([`Runner::crossing`]): `|∂h/∂q|` below half the curvature along the motion times the
+    /// position tolerance.
+    fn touched(&mut self, index: usize, t: f64, held: ActiveSet) -> Result<(), Error> {
+        let mut y = self.state_at(t)?;
+        let n = self.n;
+        // Best effort, as for the samples of the guard.
+        let _ = project_onto(&self.mech, held, t, n, &mut y);
+        let (q, q_dot) = y.split_at(n);
+        let surface = self.surface(index, t, q, q_dot);
+        let tol = self.sim.options.tolerances;
+        let q_tol = tol.atol + tol.rtol * surface.q_scale();
+        if surface.h > q_tol * surface.norm.max(f64::MIN_POSITIVE) {
+            return Ok(());
+        }
+        let normal = self.normal(index, t, q, q_dot)?;
+        if normal.gradient_norm <= 0.5 * normal.curvature * q_tol {
+            let error = Error::DegenerateConstraint {
+                t,
+                constraint: self.sim.model.constraints()[index].name.clone(),
+            };
+            return Err(self.fail_at(t, &y, error));
+        }
+        Ok(())
     }
 
     /// Constraint `other` reached at about `t` while the current mode holds others: the state

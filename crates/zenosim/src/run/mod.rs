@@ -221,6 +221,10 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         }
         while self.t < options.t_end {
             if self.observer.interrupted() {
+                // The state where it stops ends the trajectory (on a uniform output grid too).
+                let (t, y) = (self.t, self.y.clone());
+                self.advance_work(t)?;
+                self.emit(t, &y, self.mode)?;
                 return Ok(Outcome::Interrupted);
             }
             self.check_step_limit()?;
