@@ -164,3 +164,22 @@ def test_ctrl_c_interrupts_a_sweep():
         process.kill()
     assert process.returncode == 42, out
     assert latency < 1.0, latency
+
+
+def test_a_sweep_of_initial_values_alone_equals_single_runs():
+    # Initial values only: the sweep may run the model read once, from each start.
+    model = zenosim.Model.from_file(MODELS / "ball-on-sine.toml")
+    values = {"x3": [1.0, 2.0, 3.0], "x2_dot": [-0.5, 0.5]}
+    table = zenosim.sweep(model, values, t_end=3.0)
+    for i in range(table.rows):
+        run = zenosim.run(
+            model, t_end=3.0, set={"x3": table["x3"][i], "x2_dot": table["x2_dot"][i]}
+        )
+        assert table["status"][i] == run.status and table["message"][i] == run.message
+        if run.zeno:
+            assert table["t_zeno"][i] == run.zeno[0]["t_zeno"]
+        else:
+            assert math.isnan(table["t_zeno"][i])
+        for k, name in enumerate(model.coordinates):
+            assert table[f"final_{name}"][i] == run.final["q"][k]
+            assert table[f"final_{name}_dot"][i] == run.final["q_dot"][k]
