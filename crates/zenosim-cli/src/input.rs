@@ -1,18 +1,13 @@
-//! Reading a model file: at most [`MAX_FILE_BYTES`], UTF-8, then parsed and checked.
+//! Reading a model file: at most [`zenosim_model::MAX_FILE_BYTES`], UTF-8, then parsed and
+//! checked.
 
-use std::fs::File;
-use std::io::Read;
 use std::path::Path;
 
 use anyhow::{anyhow, Context};
-use zenosim_model::{Limits, ModelFile, Override};
+use zenosim_model::{Limits, ModelFile, Override, ReadError};
 
-/// The largest model file read (1 MiB): model files are a few kilobytes; anything larger is a
-/// wrong file, and refusing it early keeps a mistaken path from filling memory.
-pub const MAX_FILE_BYTES: u64 = 1 << 20;
-
-/// Reads `path` (at most `MAX_FILE_BYTES + 1` bytes) and parses it with `overrides` applied,
-/// its formulas bounded by `limits`. Every error names the file.
+/// Reads `path` ([`zenosim_model::read_source`]) and parses it with `overrides` applied, its
+/// formulas bounded by `limits`. Every error names the file.
 pub fn load(path: &Path, overrides: &[Override], limits: Limits) -> anyhow::Result<ModelFile> {
     let display = path.display().to_string();
     let source = read_source(path, &display)?;
@@ -21,31 +16,13 @@ pub fn load(path: &Path, overrides: &[Override], limits: Limits) -> anyhow::Resu
 }
 
 /// The text of the model file `path` (named `display` in messages): at most
-/// [`MAX_FILE_BYTES`], UTF-8.
+/// [`zenosim_model::MAX_FILE_BYTES`], UTF-8 ([`zenosim_model::read_source`]).
 pub fn read_source(path: &Path, display: &str) -> anyhow::Result<String> {
-    let file = File::open(path).with_context(|| format!("cannot read the model file {display}"))?;
-    let mut bytes = Vec::new();
-    file.take(MAX_FILE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .with_context(|| format!("cannot read the model file {display}"))?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(anyhow!(
-            "{display}: the file is larger than 1 MiB; a model file is a few kilobytes: check \
-             that this is the right file"
-        ));
-    }
-    String::from_utf8(bytes).map_err(|error| {
-        let valid = &error.as_bytes()[..error.utf8_error().valid_up_to()];
-        // `valid` is UTF-8 by construction; the column counts characters, as the model
-        // crate's messages do.
-        let text = String::from_utf8_lossy(valid);
-        let line = text.matches('\n').count() + 1;
-        let column = text.rsplit('\n').next().unwrap_or("").chars().count() + 1;
-        anyhow!(
-            "{display}:{line}:{column}: the file is not valid UTF-8 (byte 0x{:02x}); save it \
-             as UTF-8",
-            error.as_bytes()[valid.len()]
-        )
+    zenosim_model::read_source(path, display).or_else(|error| match error {
+        ReadError::Io(error) => {
+            Err(error).with_context(|| format!("cannot read the model file {display}"))
+        }
+        ReadError::Invalid(error) => Err(anyhow!(error)),
     })
 }
 
@@ -66,16 +43,19 @@ mod tests {
 
     #[test]
     fn large_files_are_refused() {
+        let size = zenosim_model::MAX_FILE_BYTES as usize;
         let mut file = tempfile::NamedTempFile::new().unwrap();
-        file.write_all(&vec![b'#'; MAX_FILE_BYTES as usize + 1])
-            .unwrap();
+        file.write_all(&vec![b'#'; size + 1]).unwrap();
         let error = read_source(file.path(), "big.toml")
             .unwrap_err()
             .to_string();
-        assert!(error.contains("larger than 1 MiB"), "{error}");
+        assert_eq!(
+            error,
+            "big.toml: the file is larger than 1 MiB; a model file is a few kilobytes: check \
+             that this is the right file"
+        );
         let mut file = tempfile::NamedTempFile::new().unwrap();
-        file.write_all(&vec![b'#'; MAX_FILE_BYTES as usize])
-            .unwrap();
+        file.write_all(&vec![b'#'; size]).unwrap();
         assert!(read_source(file.path(), "ok.toml").is_ok());
     }
 

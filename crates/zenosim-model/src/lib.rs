@@ -55,8 +55,10 @@ mod file_model;
 mod load;
 #[cfg(test)]
 mod property_tests;
+mod source;
 
 pub use error::{Location, ModelError};
 pub use expr::Limits;
 pub use file_model::FileModel;
 pub use load::{parse_model, parse_model_with, parse_zeno, ModelFile, Override, Settings};
+pub use source::{read_source, ReadError, MAX_FILE_BYTES};

@@ -37,7 +37,7 @@ use rayon::prelude::*;
 use zenosim::{Derived, HybridLagrangian, Observer, Simulation};
 use zenosim_model::{FileModel, Limits, ModelError, ModelFile, Override};
 
-pub use axis::Axis;
+pub use axis::{Axis, MAX_VALUES};
 pub use error::SweepError;
 pub use points::{Combine, Points};
 pub use row::Row;

@@ -1,0 +1,328 @@
+//! `zenosim.run`: one run, its trajectory kept as numpy arrays, its events, Zeno points and
+//! final state as `summary.json` writes them.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyList, PyString};
+use zenosim::{
+    Execution, HybridLagrangian, Mode, Observer, OutputGrid, Sample, Simulation, SimulationOptions,
+    ZenoStrategy,
+};
+use zenosim_model::ModelFile;
+use zenosim_runs::summary::{Record, TrajectoryJson};
+
+use crate::errors::panicked;
+use crate::interrupt::Watch;
+use crate::model::{overrides, type_name, Loaded, Model};
+
+/// The settings a call gives, each `None` where the model file's own applies.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Settings {
+    pub t_end: Option<f64>,
+    pub zeno: Option<ZenoStrategy>,
+    pub rtol: Option<f64>,
+    pub atol: Option<f64>,
+    pub dt: Option<f64>,
+}
+
+impl Settings {
+    /// The file's options, overridden by these settings (as the command line's flags do).
+    pub fn options(&self, file: &ModelFile) -> SimulationOptions {
+        let mut options = file.options();
+        if let Some(t_end) = self.t_end {
+            options.t_end = t_end;
+        }
+        if let Some(rtol) = self.rtol {
+            options.tolerances.rtol = rtol;
+        }
+        if let Some(atol) = self.atol {
+            options.tolerances.atol = atol;
+        }
+        if let Some(zeno) = self.zeno {
+            options.zeno = zeno;
+        }
+        if let Some(dt) = self.dt {
+            options.output = OutputGrid::Uniform(dt);
+        }
+        options
+    }
+}
+
+/// `zeno=`: `"auto"`, `"off"`, a positive number ε, or None (the model file's setting).
+pub fn zeno_arg(zeno: Option<&Bound<'_, PyAny>>) -> PyResult<Option<ZenoStrategy>> {
+    let Some(zeno) = zeno.filter(|z| !z.is_none()) else {
+        return Ok(None);
+    };
+    let wrong = |what: String| {
+        PyValueError::new_err(format!(
+            "zeno= is \"auto\", \"off\" or a positive number ε (the paper's rule |h| ≤ ε, \
+             |ḣ| ≤ ε), not {what}"
+        ))
+    };
+    if let Ok(text) = zeno.cast::<PyString>() {
+        let text = text.to_cow()?;
+        return match &*text {
+            "auto" => Ok(Some(ZenoStrategy::Auto)),
+            "off" => Ok(Some(ZenoStrategy::Off)),
+            _ => Err(wrong(format!("{text:?}"))),
+        };
+    }
+    if zeno.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(PyTypeError::new_err(
+            "zeno= is \"auto\", \"off\" or a positive number ε, not a bool",
+        ));
+    }
+    match zeno.extract::<f64>() {
+        Ok(epsilon) if epsilon > 0.0 && epsilon.is_finite() => {
+            Ok(Some(ZenoStrategy::Epsilon(epsilon)))
+        }
+        Ok(epsilon) => Err(wrong(epsilon.to_string())),
+        Err(_) => Err(PyTypeError::new_err(format!(
+            "zeno= is \"auto\", \"off\" or a positive number ε, not {}",
+            type_name(zeno)
+        ))),
+    }
+}
+
+/// `mode` as `trajectory.csv` writes it: `free`, or `constrained:` and the names of the
+/// constraints held joined by `+`.
+pub fn mode_label(mode: Mode, constraints: &[String]) -> String {
+    let mut label = mode.name().to_string();
+    if let Mode::Constrained(set) = mode {
+        for (k, index) in set.iter().enumerate() {
+            label.push(if k == 0 { ':' } else { '+' });
+            label.push_str(constraints.get(index).map_or("?", String::as_str));
+        }
+    }
+    label
+}
+
+/// The observer of a run: keeps every sample, column by column, and watches for Ctrl-C.
+struct Recorder {
+    t: Vec<f64>,
+    q: Vec<f64>,
+    q_dot: Vec<f64>,
+    h: Vec<f64>,
+    energy: Vec<f64>,
+    /// Per row, the index of its mode in `modes`.
+    mode: Vec<u32>,
+    modes: Vec<Mode>,
+    watch: Watch,
+}
+
+impl Recorder {
+    fn new() -> Self {
+        Self {
+            t: Vec::new(),
+            q: Vec::new(),
+            q_dot: Vec::new(),
+            h: Vec::new(),
+            energy: Vec::new(),
+            mode: Vec::new(),
+            modes: Vec::new(),
+            watch: Watch::new(),
+        }
+    }
+}
+
+impl Observer for Recorder {
+    fn sample(&mut self, s: &Sample<'_>) {
+        self.t.push(s.t);
+        self.q.extend_from_slice(s.q);
+        self.q_dot.extend_from_slice(s.q_dot);
+        self.h.extend_from_slice(s.h);
+        self.energy.push(s.energy);
+        let index = match self.modes.iter().position(|m| *m == s.mode) {
+            Some(index) => index,
+            None => {
+                self.modes.push(s.mode);
+                self.modes.len() - 1
+            }
+        };
+        self.mode.push(index as u32);
+    }
+
+    fn interrupted(&mut self) -> bool {
+        self.watch.interrupted()
+    }
+}
+
+/// The record of a run.
+#[pyclass(module = "zenosim", name = "Run", frozen)]
+pub struct Run {
+    /// `"finished"`, `"zeno_stalled"` or `"failed"` (summary.json's words).
+    #[pyo3(get)]
+    status: String,
+    /// What happened, in a sentence (summary.json's `message`).
+    #[pyo3(get)]
+    message: String,
+    /// The times of the rows.
+    #[pyo3(get)]
+    t: Py<PyAny>,
+    /// The coordinates, rows × coordinates.
+    #[pyo3(get)]
+    q: Py<PyAny>,
+    /// The velocities, rows × coordinates.
+    #[pyo3(get)]
+    q_dot: Py<PyAny>,
+    /// Each constraint's `h`, rows × constraints.
+    #[pyo3(get)]
+    h: Py<PyAny>,
+    /// The energy of each row.
+    #[pyo3(get)]
+    energy: Py<PyAny>,
+    /// Each row's mode, as trajectory.csv writes it.
+    #[pyo3(get)]
+    mode: Py<PyAny>,
+    /// Every event, as summary.json lists them.
+    #[pyo3(get)]
+    events: Py<PyAny>,
+    /// Every Zeno point, as summary.json lists them.
+    #[pyo3(get)]
+    zeno: Py<PyAny>,
+    /// Where the run ended, as summary.json's `final`.
+    #[pyo3(get, name = "final")]
+    final_: Py<PyAny>,
+    /// The coordinates' names.
+    #[pyo3(get)]
+    coordinates: Vec<String>,
+    /// The constraints' names.
+    #[pyo3(get)]
+    constraints: Vec<String>,
+    impacts: u64,
+    t_final: f64,
+}
+
+#[pymethods]
+impl Run {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let rows = self.t.bind(py).len().unwrap_or(0);
+        let zeno = self.zeno.bind(py).len().unwrap_or(0);
+        format!(
+            "zenosim.Run(status={:?}, t_final={}, rows={rows}, impacts={}, zeno_points={zeno})",
+            self.status, self.t_final, self.impacts
+        )
+    }
+}
+
+/// `value` as Python objects: what `json.loads` makes of serde_json's text, summary.json's
+/// keys and numbers (NaN and infinities are None, as summary.json's `null`).
+pub fn json_value<T: serde::Serialize>(py: Python<'_>, value: &T) -> PyResult<Py<PyAny>> {
+    Ok(crate::topy::to_python(py, value)?.unbind())
+}
+
+/// Runs `model` (a `Model` or a path) once, keeping its trajectory.
+#[pyfunction]
+#[pyo3(signature = (model, *, t_end=None, zeno=None, rtol=None, atol=None, dt=None, set=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn run(
+    py: Python<'_>,
+    model: &Bound<'_, PyAny>,
+    t_end: Option<f64>,
+    zeno: Option<&Bound<'_, PyAny>>,
+    rtol: Option<f64>,
+    atol: Option<f64>,
+    dt: Option<f64>,
+    set: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Run> {
+    let settings = Settings {
+        t_end,
+        zeno: zeno_arg(zeno)?,
+        rtol,
+        atol,
+        dt,
+    };
+    let loaded = Loaded::new(py, model, &overrides(set)?)?;
+    let file = loaded.file();
+    let options = settings.options(file);
+    let constraints = zenosim_runs::summary::constraint_names(file);
+    let outcome = py.detach(|| {
+        catch_unwind(AssertUnwindSafe(|| {
+            let simulation =
+                Simulation::new(&file.model, &file.initial.q, &file.initial.q_dot, options)?;
+            let mut recorder = Recorder::new();
+            let execution = simulation.run(&mut recorder);
+            Ok::<_, zenosim::Error>((execution, recorder))
+        }))
+    });
+    let (execution, mut recorder) = match outcome {
+        Ok(Ok(done)) => done,
+        Ok(Err(error)) => {
+            return Err(PyValueError::new_err(format!(
+                "{}: cannot simulate this model: {error}",
+                model_name(model)
+            )))
+        }
+        Err(payload) => return Err(panicked(payload)),
+    };
+    if let Some(interrupt) = recorder.watch.take() {
+        return Err(interrupt);
+    }
+    record(py, file, &options, &execution, recorder, constraints)
+}
+
+/// The name of the model a call was given, for messages.
+fn model_name(model: &Bound<'_, PyAny>) -> String {
+    match model.cast::<Model>() {
+        Ok(model) => model.get().file.clone(),
+        Err(_) => model.str().map_or_else(|_| "?".into(), |s| s.to_string()),
+    }
+}
+
+fn record(
+    py: Python<'_>,
+    file: &ModelFile,
+    options: &SimulationOptions,
+    execution: &Execution,
+    recorder: Recorder,
+    constraints: Vec<String>,
+) -> PyResult<Run> {
+    let n = file.model.dimension();
+    let m = constraints.len();
+    let rows = recorder.t.len();
+    let matrix = |values: Vec<f64>, columns: usize| -> PyResult<Py<PyAny>> {
+        let array = Array2::from_shape_vec((rows, columns), values)
+            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+        Ok(array.into_pyarray(py).into_any().unbind())
+    };
+    let labels: Vec<Bound<'_, PyString>> = recorder
+        .modes
+        .iter()
+        .map(|mode| PyString::new(py, &mode_label(*mode, &constraints)))
+        .collect();
+    let mode = PyList::new(py, recorder.mode.iter().map(|&i| &labels[i as usize]))?;
+    let message = zenosim_runs::message::message(execution, &constraints);
+    let summary = Record {
+        file,
+        options,
+        run: execution,
+        constraint_names: &constraints,
+        message: message.clone(),
+        trajectory: TrajectoryJson {
+            file: "",
+            rows: rows as u64,
+        },
+    }
+    .summary();
+    Ok(Run {
+        status: summary.status.to_string(),
+        message,
+        t: PyArray1::from_vec(py, recorder.t).into_any().unbind(),
+        q: matrix(recorder.q, n)?,
+        q_dot: matrix(recorder.q_dot, n)?,
+        h: matrix(recorder.h, m)?,
+        energy: PyArray1::from_vec(py, recorder.energy).into_any().unbind(),
+        mode: mode.into_any().unbind(),
+        events: json_value(py, &summary.events)?,
+        zeno: json_value(py, &summary.zeno)?,
+        final_: json_value(py, &summary.final_)?,
+        coordinates: file.model.coordinate_names(),
+        constraints: constraints.clone(),
+        impacts: execution.stats.impacts,
+        t_final: execution.t_final,
+    })
+}

@@ -1,0 +1,88 @@
+"""The GIL is released while simulating, and Ctrl-C interrupts a long run."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+
+import zenosim
+from conftest import MODELS
+
+# A long run: the ball on the sine surface, rolling for a long while after its Zeno point
+# (about 1 s of wall time in an optimised build, several in a debug one).
+LONG = dict(t_end=1e5, rtol=1e-12, atol=1e-12)
+
+
+def test_other_threads_run_while_a_run_simulates():
+    model = zenosim.Model.from_file(MODELS / "ball-on-sine.toml")
+    count = [0]
+    done = threading.Event()
+
+    def counter():
+        while not done.is_set():
+            count[0] += 1
+
+    thread = threading.Thread(target=counter)
+    thread.start()
+    try:
+        time.sleep(0.05)
+        # Read while this thread holds the GIL, just before and just after the run.
+        before = count[0]
+        start = time.perf_counter()
+        zenosim.run(model, t_end=4000.0)
+        seconds = time.perf_counter() - start
+        during = count[0] - before
+        time.sleep(0.05)
+        after = count[0] - before - during
+    finally:
+        done.set()
+        thread.join()
+    # Held for the whole run, the GIL would let the counter move only in the interpreter's
+    # switch interval (5 ms) before the run starts; released, it counts all along, at about
+    # the rate it counts in the 50 ms after the run.
+    rate_after = after / 0.05
+    assert seconds > 0.1, seconds
+    assert during > 0.25 * rate_after * seconds, (during, rate_after, seconds)
+    assert during > 20 * rate_after * 0.005, (during, rate_after)
+
+
+SCRIPT = textwrap.dedent(
+    """
+    import sys, time, zenosim
+    model = zenosim.Model.from_file(sys.argv[1])
+    print("started", flush=True)
+    start = time.perf_counter()
+    try:
+        zenosim.run(model, t_end=1e5, rtol=1e-12, atol=1e-12)
+    except KeyboardInterrupt:
+        print(f"interrupted after {time.perf_counter() - start:.3f}", flush=True)
+        sys.exit(42)
+    print("finished", flush=True)
+    """
+)
+
+
+def test_ctrl_c_interrupts_a_long_run():
+    process = subprocess.Popen(
+        [sys.executable, "-c", SCRIPT, str(MODELS / "ball-on-sine.toml")],
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert process.stdout.readline() == "started\n"
+        time.sleep(0.3)
+        sent = time.perf_counter()
+        process.send_signal(signal.SIGINT)
+        out, _ = process.communicate(timeout=30)
+        latency = time.perf_counter() - sent
+    finally:
+        process.kill()
+    assert process.returncode == 42, out
+    assert out.startswith("interrupted after"), out
+    # Polled every 50 ms: well under a second.
+    assert latency < 1.0, latency
