@@ -458,19 +458,7 @@ fn an_unwritable_output_directory_is_exit_1_naming_it() {
 fn a_full_disk_stops_the_run_at_once_exit_1_leaving_no_partial_file() {
     let scratch = Scratch::new(BALL);
     let started = std::time::Instant::now();
-    let output = scratch.zenosim_limited(
-        16,
-        &[
-            "run",
-            "model.toml",
-            "--out",
-            "out",
-            "--t-end",
-            "1e4",
-            "--dt",
-            "1e-3",
-        ],
-    );
+    let output = scratch.zenosim_limited(16, &LONG_RUN);
     assert!(started.elapsed().as_secs() < 30, "{:?}", started.elapsed());
     assert_exit(&output, 1);
     let err = stderr(&output);
@@ -518,19 +506,22 @@ fn partials(dir: &std::path::Path) -> Vec<String> {
         .collect()
 }
 
-/// Starts a run of 10⁷ rows into `out` and waits until it has written 100 kB of them.
+/// A run of 10⁷ rows into `out`: minutes of writing.
+const LONG_RUN: [&str; 8] = [
+    "run",
+    "model.toml",
+    "--out",
+    "out",
+    "--t-end",
+    "1e4",
+    "--dt",
+    "1e-3",
+];
+
+/// Starts [`LONG_RUN`] and waits until it has written 100 kB of its rows.
 fn start_long_run(scratch: &Scratch) -> std::process::Child {
     let mut child = std::process::Command::new(binary())
-        .args([
-            "run",
-            "model.toml",
-            "--out",
-            "out",
-            "--t-end",
-            "1e4",
-            "--dt",
-            "1e-3",
-        ])
+        .args(LONG_RUN)
         .current_dir(scratch.dir.path())
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())

@@ -163,7 +163,8 @@ def test_ctrl_c_interrupts_a_sweep():
     finally:
         process.kill()
     assert process.returncode == 42, out
-    assert latency < 1.0, latency
+    # Loose (a loaded machine), yet far below the minutes the sweep would take.
+    assert latency < 10.0, latency
 
 
 def test_a_sweep_of_initial_values_alone_equals_single_runs():

@@ -84,5 +84,6 @@ def test_ctrl_c_interrupts_a_long_run():
         process.kill()
     assert process.returncode == 42, out
     assert out.startswith("interrupted after"), out
-    # Polled every 50 ms: well under a second.
-    assert latency < 1.0, latency
+    # Polled every 50 ms; the bound is loose (a loaded machine), yet far below the minutes the
+    # run would take: the signal, not the end of the run, stopped it.
+    assert latency < 10.0, latency
