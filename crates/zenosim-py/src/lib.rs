@@ -19,6 +19,10 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _zenosim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    // numpy's C API is looked up on first use, by importing numpy. Done here, at import time:
+    // looked up later, after a run, a Ctrl-C pending at that moment made the import raise
+    // KeyboardInterrupt, which the numpy crate turns into a panic.
+    let _ = numpy::PyArray1::<f64>::from_vec(py, Vec::new());
     m.add_class::<model::Model>()?;
     m.add_class::<run::Run>()?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;

@@ -225,6 +225,11 @@ impl<'py> ser::Serializer for Builder<'py> {
 impl<'py> Seq<'py> {
     fn push<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
         self.items.push(value.serialize(self.builder)?);
+        // A long list (10⁵ events) takes seconds with the GIL held, when Python's own signal
+        // handlers cannot run: Ctrl-C is looked for here, as during the run.
+        if self.items.len().is_multiple_of(4096) {
+            self.builder.py.check_signals()?;
+        }
         Ok(())
     }
     fn list(self) -> Built<'py> {

@@ -87,3 +87,43 @@ def test_ctrl_c_interrupts_a_long_run():
     # Polled every 50 ms; the bound is loose (a loaded machine), yet far below the minutes the
     # run would take: the signal, not the end of the run, stopped it.
     assert latency < 10.0, latency
+
+
+SCRIPT_EVENTS = textwrap.dedent(
+    """
+    import sys, zenosim
+    model = zenosim.Model.from_file(sys.argv[1])
+    print("started", flush=True)
+    try:
+        run = zenosim.run(model, set={"e": 1.0}, t_end=float(sys.argv[2]))
+    except KeyboardInterrupt:
+        print("interrupted", flush=True)
+        sys.exit(42)
+    print("finished", run.status, len(run.events), flush=True)
+    """
+)
+
+
+def test_ctrl_c_at_any_moment_of_a_run_is_a_keyboard_interrupt():
+    # Regression: a Ctrl-C that landed as the run handed over to building its numpy arrays
+    # made numpy's first lookup of its C API raise, which the numpy crate turned into a panic
+    # (a PanicException, which `except KeyboardInterrupt` misses). An elastic ball (it bounces
+    # for ever) with tens of thousands of events: signals at moments spread over the
+    # simulation and the conversion of its events must each end in KeyboardInterrupt (or, once
+    # done, a finished run), never in anything else.
+    for delay in (0.05, 0.2, 0.4, 0.7, 1.0):
+        process = subprocess.Popen(
+            [sys.executable, "-c", SCRIPT_EVENTS, str(MODELS / "ball-on-sine.toml"), "1e4"],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        try:
+            assert process.stdout.readline() == "started\n"
+            time.sleep(delay)
+            process.send_signal(signal.SIGINT)
+            out, err = process.communicate(timeout=120)
+        finally:
+            process.kill()
+        assert "Panic" not in err and "panicked" not in err, err
+        assert process.returncode == 42 or out.startswith("finished"), (delay, out, err)
