@@ -6,12 +6,11 @@
 //! the parts in turn, one at a time: memory stays flat however large the sweep.
 
 use std::io::BufWriter;
-use std::path::Path;
 
 use anyhow::{anyhow, Context};
 
 use crate::cli::MergeArgs;
-use crate::output::OutputDir;
+use crate::output::{split, OutputDir};
 use crate::sweep_file::{Part, Rewriter};
 use crate::{print_report, Classify, Failure, EXIT_OK};
 
@@ -184,17 +183,4 @@ fn open(paths: &[std::path::PathBuf]) -> anyhow::Result<Vec<Part>> {
         slots[k] = Some(part);
     }
     Ok(slots.into_iter().flatten().collect())
-}
-
-/// The directory and the file name of `path`.
-pub fn split(path: &Path) -> anyhow::Result<(std::path::PathBuf, String)> {
-    let dir = match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .and_then(|n| n.to_str())
-        .ok_or_else(|| anyhow!("--out {}: not a file name", path.display()))?;
-    Ok((dir, name.to_string()))
 }

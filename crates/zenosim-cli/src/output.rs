@@ -13,7 +13,7 @@
 //!   the next command writing into the directory removes.
 
 use std::fs::{self, File, OpenOptions};
-use std::io;
+use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, Weak};
@@ -103,7 +103,7 @@ impl OutputDir {
         };
         Ok((
             PartialFile {
-                registered: signals::register(&partial),
+                _registered: signals::register(&partial),
                 partial,
                 target,
                 dir: Arc::clone(&self.lock),
@@ -130,6 +130,30 @@ impl OutputDir {
             }
         }
     }
+}
+
+/// The directory and the file name of `path` (`.` for a bare name): where a command writing one
+/// file (`--out FILE`) writes it.
+pub fn split(path: &Path) -> anyhow::Result<(PathBuf, String)> {
+    let dir = match path.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .ok_or_else(|| anyhow!("--out {}: not a file name", path.display()))?;
+    Ok((dir, name.to_string()))
+}
+
+/// Writes `bytes` to `path` under a temporary name, renamed once complete.
+pub fn write_file(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let (dir, name) = split(path)?;
+    let out = OutputDir::prepare(&dir)?;
+    let (partial, mut file) = out.create(&name)?;
+    file.write_all(bytes)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    partial.commit(file)
 }
 
 /// Locks `dir` for this process, or shares the lock this process already holds on it.
@@ -180,8 +204,7 @@ pub struct PartialFile {
     committed: bool,
     /// For a second Ctrl-C, which removes the file at once ([`signals`]); unregistered when
     /// the file is dropped, after [`Drop`] has removed it or it was renamed.
-    #[allow(dead_code)]
-    registered: signals::Registered,
+    _registered: signals::Registered,
 }
 
 impl PartialFile {

@@ -12,8 +12,7 @@ use zenosim_runs::sweep::{Combine, Points, Row, Shard, Sweep};
 use zenosim_runs::Status;
 
 use crate::cli::SweepArgs;
-use crate::merge::split;
-use crate::output::OutputDir;
+use crate::output::{split, OutputDir};
 use crate::plot::{self, MapSpec};
 use crate::progress::RunsDone;
 use crate::run::default_dir;

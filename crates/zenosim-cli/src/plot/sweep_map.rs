@@ -23,7 +23,7 @@ use super::canvas::{render, Drawn, Format, Picture, FONT};
 use super::chart::{axes, drawable, legend, note, Entry, Sample};
 use super::style::{short, TITLE_SIZE};
 use super::svg::Layer;
-use super::work_precision::write_file;
+use crate::output::write_file;
 use crate::{Classify, Failure};
 
 /// The cells without a value.

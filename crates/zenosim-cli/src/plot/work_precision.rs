@@ -4,8 +4,8 @@
 //! cost. The points are measured elsewhere (`bench/run` compares zenosim with scipy).
 
 use std::fs::File;
-use std::io::{Read, Write};
-use std::path::{Path, PathBuf};
+use std::io::Read;
+use std::path::Path;
 
 use anyhow::{anyhow, Context};
 use plotters::coord::Shift;
@@ -22,7 +22,7 @@ use super::chart::{frame, legend, mesh, note, Entry, Sample};
 use super::style::{color, short, tick, LINE_WIDTH, TEXT_SIZE, TITLE_SIZE};
 use super::svg::Layer;
 use crate::cli::WorkPrecisionArgs;
-use crate::output::OutputDir;
+use crate::output::write_file;
 use crate::{print_report, Classify, Failure, EXIT_OK};
 
 /// The largest input read: a diagram's points take kilobytes.
@@ -342,25 +342,10 @@ fn format_of(path: &Path) -> anyhow::Result<Format> {
     }
 }
 
-/// Writes `bytes` to `path` under a temporary name, renamed once complete.
-pub fn write_file(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let dir = match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .and_then(|n| n.to_str())
-        .ok_or_else(|| anyhow!("--out {}: not a file name", path.display()))?;
-    let out = OutputDir::prepare(&dir)?;
-    let (partial, mut file) = out.create(name)?;
-    file.write_all(bytes)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    partial.commit(file)
-}
-
 #[cfg(test)]
 mod tests {
+    use std::io::Write;
+
     use super::*;
 
     fn diagram(json: &str) -> anyhow::Result<Diagram> {
