@@ -79,17 +79,9 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     ) -> Result<Next, Error> {
         let (q, q_dot) = before.split_at(self.n);
         let normal = self.normal(index, t_event, q, q_dot)?;
-        // A surface where ∂h/∂q vanishes (h = x³ at x = 0) has no normal to bounce along: below
-        // the position tolerance, h is dominated by its curvature, not by its gradient.
-        let tol = self.sim.options.tolerances;
-        let q_tol = tol.atol + tol.rtol * self.surface(index, t_event, q, q_dot).q_scale();
-        if normal.gradient_norm <= 0.5 * normal.curvature * q_tol {
-            let error = Error::DegenerateConstraint {
-                t: t_event,
-                constraint: self.sim.model.constraints()[index].name.clone(),
-            };
-            return Err(self.fail_at(t_event, &before, error));
-        }
+        let surface = self.surface(index, t_event, q, q_dot);
+        let q_tol = surface.position_tolerance(self.sim.options.tolerances);
+        self.refuse_flat(index, t_event, &before, &normal, q_tol)?;
         if leaving(&normal) {
             // Moving away at the root (or at rest and accelerating away): a round-off crossing,
             // not an impact (REFERENCE §4).
@@ -272,8 +264,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     /// if it touched `h = 0` where `∂h/∂q` vanishes (`h = y²`, `h = (x² + y² − 1)²`), which no
     /// sign change reveals, so that the body would pass through the surface unseen. A graze of
     /// a regular surface (`∂h/∂q` away from 0) is no error. The test is the one an impact makes
-    /// ([`Runner::crossing`]): `|∂h/∂q|` below half the curvature along the motion times the
-    /// position tolerance.
+    /// ([`Runner::refuse_flat`]).
     fn touched(&mut self, index: usize, t: f64, held: ActiveSet) -> Result<(), Error> {
         let mut y = self.state_at(t)?;
         let n = self.n;
@@ -281,18 +272,31 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let _ = project_onto(&self.mech, held, t, n, &mut y);
         let (q, q_dot) = y.split_at(n);
         let surface = self.surface(index, t, q, q_dot);
-        let tol = self.sim.options.tolerances;
-        let q_tol = tol.atol + tol.rtol * surface.q_scale();
+        let q_tol = surface.position_tolerance(self.sim.options.tolerances);
         if surface.h > q_tol * surface.norm.max(f64::MIN_POSITIVE) {
             return Ok(());
         }
         let normal = self.normal(index, t, q, q_dot)?;
+        self.refuse_flat(index, t, &y, &normal, q_tol)
+    }
+
+    /// Fails the run at `(t, y)` where constraint `index` has no normal to act along: a surface
+    /// where `∂h/∂q` vanishes (`h = x³` at `x = 0`), where below the position tolerance `q_tol`
+    /// `h` is dominated by its curvature along the motion, not by its gradient.
+    fn refuse_flat(
+        &mut self,
+        index: usize,
+        t: f64,
+        y: &[f64],
+        normal: &Normal,
+        q_tol: f64,
+    ) -> Result<(), Error> {
         if normal.gradient_norm <= 0.5 * normal.curvature * q_tol {
             let error = Error::DegenerateConstraint {
                 t,
                 constraint: self.sim.model.constraints()[index].name.clone(),
             };
-            return Err(self.fail_at(t, &y, error));
+            return Err(self.fail_at(t, y, error));
         }
         Ok(())
     }
@@ -345,8 +349,13 @@ impl Surface {
         }
     }
 
+    /// The position tolerance here, in the coordinates' units: `atol + rtol q_scale`.
+    pub fn position_tolerance(&self, tol: Tolerances) -> f64 {
+        tol.atol + tol.rtol * self.q_scale()
+    }
+
     /// `factor` position tolerances, in `h`'s units: `factor (atol + rtol q_scale) |A|`.
     pub fn tolerance(&self, factor: f64, tol: Tolerances) -> f64 {
-        factor * (tol.atol + tol.rtol * self.q_scale()) * self.norm
+        factor * self.position_tolerance(tol) * self.norm
     }
 }
