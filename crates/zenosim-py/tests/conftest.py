@@ -67,3 +67,29 @@ def cli_run(cli, tmp_path):
         return CliRun(out, done.returncode)
 
     return run
+
+
+def interrupt(script: str, *args: str, delay: float, timeout: float = 60.0):
+    """Runs `script` (which prints "started" before its long call) in a new Python with `args`,
+    sends SIGINT `delay` seconds after it started, and returns its exit status, its stdout,
+    its stderr and how long it took to end after the signal."""
+    import signal
+    import sys
+    import time
+
+    process = subprocess.Popen(
+        [sys.executable, "-c", script, *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert process.stdout.readline() == "started\n"
+        time.sleep(delay)
+        sent = time.perf_counter()
+        process.send_signal(signal.SIGINT)
+        out, err = process.communicate(timeout=timeout)
+        latency = time.perf_counter() - sent
+    finally:
+        process.kill()
+    return process.returncode, out, err, latency

@@ -3,17 +3,13 @@
 from __future__ import annotations
 
 import math
-import signal
-import subprocess
-import sys
 import textwrap
-import time
 
 import numpy as np
 import pytest
 
 import zenosim
-from conftest import MODELS
+from conftest import MODELS, interrupt
 
 BALL = MODELS / "bouncing-ball.toml"
 
@@ -148,21 +144,8 @@ SCRIPT = textwrap.dedent(
 
 
 def test_ctrl_c_interrupts_a_sweep():
-    process = subprocess.Popen(
-        [sys.executable, "-c", SCRIPT, str(MODELS / "ball-on-sine.toml")],
-        stdout=subprocess.PIPE,
-        text=True,
-    )
-    try:
-        assert process.stdout.readline() == "started\n"
-        time.sleep(0.5)
-        sent = time.perf_counter()
-        process.send_signal(signal.SIGINT)
-        out, _ = process.communicate(timeout=60)
-        latency = time.perf_counter() - sent
-    finally:
-        process.kill()
-    assert process.returncode == 42, out
+    code, out, _, latency = interrupt(SCRIPT, str(MODELS / "ball-on-sine.toml"), delay=0.5)
+    assert code == 42, out
     # Loose (a loaded machine), yet far below the minutes the sweep would take.
     assert latency < 10.0, latency
 

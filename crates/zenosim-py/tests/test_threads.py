@@ -2,16 +2,12 @@
 
 from __future__ import annotations
 
-import os
-import signal
-import subprocess
-import sys
 import textwrap
 import threading
 import time
 
 import zenosim
-from conftest import MODELS
+from conftest import MODELS, interrupt
 
 # A long run: the ball on the sine surface, rolling for a long while after its Zeno point
 # (about 1 s of wall time in an optimised build, several in a debug one).
@@ -68,21 +64,10 @@ SCRIPT = textwrap.dedent(
 
 
 def test_ctrl_c_interrupts_a_long_run():
-    process = subprocess.Popen(
-        [sys.executable, "-c", SCRIPT, str(MODELS / "ball-on-sine.toml")],
-        stdout=subprocess.PIPE,
-        text=True,
+    code, out, _, latency = interrupt(
+        SCRIPT, str(MODELS / "ball-on-sine.toml"), delay=0.3, timeout=30
     )
-    try:
-        assert process.stdout.readline() == "started\n"
-        time.sleep(0.3)
-        sent = time.perf_counter()
-        process.send_signal(signal.SIGINT)
-        out, _ = process.communicate(timeout=30)
-        latency = time.perf_counter() - sent
-    finally:
-        process.kill()
-    assert process.returncode == 42, out
+    assert code == 42, out
     assert out.startswith("interrupted after"), out
     # Polled every 50 ms; the bound is loose (a loaded machine), yet far below the minutes the
     # run would take: the signal, not the end of the run, stopped it.
@@ -112,18 +97,8 @@ def test_ctrl_c_at_any_moment_of_a_run_is_a_keyboard_interrupt():
     # simulation and the conversion of its events must each end in KeyboardInterrupt (or, once
     # done, a finished run), never in anything else.
     for delay in (0.05, 0.2, 0.4, 0.7, 1.0):
-        process = subprocess.Popen(
-            [sys.executable, "-c", SCRIPT_EVENTS, str(MODELS / "ball-on-sine.toml"), "1e4"],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
+        code, out, err, _ = interrupt(
+            SCRIPT_EVENTS, str(MODELS / "ball-on-sine.toml"), "1e4", delay=delay, timeout=120
         )
-        try:
-            assert process.stdout.readline() == "started\n"
-            time.sleep(delay)
-            process.send_signal(signal.SIGINT)
-            out, err = process.communicate(timeout=120)
-        finally:
-            process.kill()
         assert "Panic" not in err and "panicked" not in err, err
-        assert process.returncode == 42 or out.startswith("finished"), (delay, out, err)
+        assert code == 42 or out.startswith("finished"), (delay, out, err)
