@@ -5,7 +5,9 @@
 //!
 //! The handler only does what a signal handler may: atomic loads and stores, `unlink` and
 //! `_exit`. The paths it removes are registered as C strings that are never freed (a command
-//! writes a handful of files), so that the handler never reads freed memory.
+//! writes a handful of files), so that the handler never reads freed memory; they are
+//! registered only once the handlers are installed, so that a command without them (`zenosim
+//! plot`), or a process drawing plots again and again (the fuzz target), leaks nothing.
 
 use std::ffi::{c_char, c_int, CString};
 use std::path::Path;
@@ -25,6 +27,9 @@ static COMMITTING: AtomicBool = AtomicBool::new(false);
 /// A second signal that came while [`COMMITTING`]: the process ends once the renames are done.
 static DEFERRED: AtomicI32 = AtomicI32::new(0);
 
+/// Set by [`install`]: until then no handler reads [`PARTIALS`], and nothing is registered.
+static INSTALLED: AtomicBool = AtomicBool::new(false);
+
 /// The temporary files being written, removed by a second signal. A slot holds a leaked C
 /// string or null.
 static PARTIALS: [AtomicPtr<c_char>; 32] = [const { AtomicPtr::new(ptr::null_mut()) }; 32];
@@ -32,6 +37,7 @@ static PARTIALS: [AtomicPtr<c_char>; 32] = [const { AtomicPtr::new(ptr::null_mut
 /// Installs the handlers: by the commands that stop at the flag (`run`, `sweep`), once they
 /// start; the others keep the default (a Ctrl-C ends them at once).
 pub fn install() {
+    INSTALLED.store(true, Ordering::SeqCst);
     #[cfg(unix)]
     for signal in [libc::SIGINT, libc::SIGTERM] {
         // SAFETY: the handler is an `extern "C" fn(c_int)` that only makes async-signal-safe
@@ -114,11 +120,15 @@ pub fn name(signal: i32) -> &'static str {
 /// A temporary file, registered to be removed by a second signal until it is dropped.
 pub struct Registered(Option<usize>);
 
-/// Registers `path` as being written (when a slot is free; a path that does not fit is left to
-/// the next command to remove).
+/// Registers `path` as being written (when the handlers are installed and a slot is free; a
+/// path that is not registered is left to the next command to remove).
 #[cfg(unix)]
 pub fn register(path: &Path) -> Registered {
     use std::os::unix::ffi::OsStrExt;
+    if !INSTALLED.load(Ordering::SeqCst) {
+        // No handler to read it: a Ctrl-C ends the command at once.
+        return Registered(None);
+    }
     let Ok(c_path) = CString::new(path.as_os_str().as_bytes()) else {
         return Registered(None);
     };

@@ -46,6 +46,7 @@ use plane_chart::PlaneChart;
 use record::Record;
 use scene::{default_plane, Scene};
 use time_chart::{Quantity, TimeChart};
+use trajectory_file::quote;
 use zeno_chart::ZenoChart;
 
 /// The plots' names, in the order they are written; the files are `<name>.<format>`.
@@ -96,8 +97,9 @@ impl Plane {
         let find = |name: &str| {
             names.iter().position(|n| n == name).ok_or_else(|| {
                 anyhow!(
-                    "--plane: no coordinate or velocity is named `{name}`; this model's are {}",
-                    names.join(", ")
+                    "--plane: no coordinate or velocity is named `{}`; this model's are {}",
+                    quote(name),
+                    quote(&names.join(", "))
                 )
             })
         };

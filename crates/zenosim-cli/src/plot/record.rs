@@ -10,6 +10,8 @@ use anyhow::{anyhow, Context};
 use serde::Deserialize;
 use zenosim_model::expr::{Bindings, Expression};
 
+use super::trajectory_file::quote;
+
 /// A run's record, as `summary.json` holds it (the fields the plots use).
 #[derive(Debug, Deserialize)]
 pub struct Record {
@@ -145,10 +147,12 @@ impl Record {
         let record: Self = serde_json::from_reader(BufReader::new(file)).map_err(|error| {
             let text = error.to_string();
             let message = text.rfind(" at line ").map_or(&*text, |end| &text[..end]);
+            // serde quotes a string of the wrong type whole: a name of a megabyte.
             anyhow!(
-                "{display}:{}:{}: {message}; is it a summary.json written by `zenosim run`?",
+                "{display}:{}:{}: {}; is it a summary.json written by `zenosim run`?",
                 error.line(),
-                error.column()
+                error.column(),
+                quote(message)
             )
         })?;
         record.check().map_err(|problem| {

@@ -214,7 +214,7 @@ fn check_header(header: &csv::ByteRecord, record: &Record) -> Result<(Vec<String
 }
 
 /// `text` for a message: at most [`QUOTED`] characters of it, and how long it is when longer.
-fn quote(text: &str) -> String {
+pub fn quote(text: &str) -> String {
     match text.char_indices().nth(QUOTED) {
         None => text.to_string(),
         Some((end, _)) => format!("{}… ({} bytes in all)", &text[..end], text.len()),
