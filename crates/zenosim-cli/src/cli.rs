@@ -361,8 +361,8 @@ impl ModelInput {
     }
 }
 
-/// How long and how deep a model file's formulas may be (they bound the work and the stack
-/// that a hostile or broken file can take).
+/// How long and how deep a model file's formulas may be, and how much work differentiating
+/// them may take (they bound the time, memory and stack that a hostile or broken file can take).
 #[derive(Clone, Copy, Debug, Args)]
 pub struct FormulaLimits {
     /// The longest formula accepted, in characters.
@@ -374,6 +374,12 @@ pub struct FormulaLimits {
     #[arg(long, value_name = "N", default_value_t = zenosim_model::expr::DEFAULT_MAX_DEPTH as u32,
           value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub max_formula_depth: u32,
+
+    /// The most operations that differentiating the model's formulas may take (it grows with
+    /// their size; loading stops with an error past it).
+    #[arg(long, value_name = "N", default_value_t = zenosim_model::expr::DEFAULT_MAX_OPERATIONS as u64,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_derivative_operations: u64,
 }
 
 impl FormulaLimits {
@@ -382,6 +388,7 @@ impl FormulaLimits {
         zenosim_model::Limits {
             max_length: self.max_formula_length as usize,
             max_depth: self.max_formula_depth as usize,
+            max_operations: usize::try_from(self.max_derivative_operations).unwrap_or(usize::MAX),
         }
     }
 }
