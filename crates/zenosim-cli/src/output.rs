@@ -252,3 +252,39 @@ impl Drop for PartialFile {
         }
     }
 }
+
+/// What a CSV writer writes into, one record at a time: its owner reads the record, measures it
+/// (against `--max-output`) and takes it ([`Record::take_into`]) before the next.
+#[derive(Clone, Default)]
+pub struct Record(std::rc::Rc<std::cell::RefCell<Vec<u8>>>);
+
+impl Record {
+    /// The length of what was written since the last take, in bytes.
+    pub fn len(&self) -> u64 {
+        self.0.borrow().len() as u64
+    }
+
+    /// Writes what was written since the last take to `out`, and forgets it.
+    pub fn take_into(&self, out: &mut impl Write) -> io::Result<()> {
+        let mut bytes = self.0.borrow_mut();
+        let written = out.write_all(&bytes);
+        bytes.clear();
+        written
+    }
+
+    /// Forgets what was written since the last take.
+    pub fn clear(&self) {
+        self.0.borrow_mut().clear();
+    }
+}
+
+impl Write for Record {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.0.borrow_mut().extend_from_slice(buf);
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
+    }
+}
