@@ -43,9 +43,10 @@ DIR is locked while the run writes into it: a second zenosim writing into DIR fa
 Each file is written to a temporary name of its own (.<file>.<pid>-<n>.partial, created
 exclusively: never through a symlink) and renamed when complete, at the end of the run: until
 then the previous run's files stay as they were, so a run that is killed leaves them untouched
-(and a hidden .partial file that the next command writing into DIR removes). The old
-summary.json and plots are removed just before the new files are renamed, summary.json last, so
-its presence means the files are complete and belong together. A write that fails (a full disk)
+(and a hidden .partial file that the next command writing into DIR removes). The old plots go
+and the old summary.json is moved aside just before the new files are renamed, back to back,
+summary.json last, so its presence means the files are complete and belong together (a SIGKILL
+in the microseconds of the renames leaves no summary.json). A write that fails (a full disk)
 stops the run at once. trajectory.csv is capped at --max-output (1GiB by default): the first row
 past it stops the run at its next step, as failed (status \"failed\", exit status 1); the file
 keeps the rows up to the cap and ends with the final state, one row past it. Ctrl-C (SIGINT)

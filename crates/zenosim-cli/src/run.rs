@@ -124,14 +124,14 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     let balance = summary.energy_balance;
     let summary_finished = write_summary(&out, &summary)?;
 
-    // Both files are complete. The previous run's summary and plots go, then the trajectory
-    // and the summary take their final names, the summary last: a summary.json is only ever
-    // beside the files it describes (a kill between these renames leaves no summary at all).
+    // Both files are complete. The previous run's plots go, then its summary, and the
+    // trajectory and the summary take their final names, back to back, the summary last: a
+    // summary.json is only ever beside the files it describes (a SIGKILL in the microseconds
+    // between the old summary leaving and the new one arriving leaves no summary at all).
     let summary_path = summary_finished.target().to_path_buf();
     signals::committing(|| {
-        out.remove(std::iter::once(SUMMARY.to_string()).chain(plot::plot_files()))?;
-        csv_finished.publish()?;
-        summary_finished.publish()
+        out.remove(plot::plot_files())?;
+        out.replace(SUMMARY, [csv_finished, summary_finished])
     })
     .output()?;
 
