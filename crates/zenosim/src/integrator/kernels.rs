@@ -123,16 +123,24 @@ pub(super) fn correct_end<S: OdeSystem>(
     Ok(changed)
 }
 
-/// Weighted RMS norm `sqrt(mean((x_i / (atol + rtol |y_i|))^2))` (used by hinit).
+/// Weighted RMS norm `sqrt(mean((x_i / (atol + rtol |y_i|))^2))` (used by hinit), scaled by
+/// its largest term so that it neither overflows nor underflows where the norm itself is a
+/// finite number: a derivative of 10 against an `atol` of 1e-300 (a component that starts at
+/// zero) is a ratio of 1e301, whose square is not.
 #[inline]
 pub(super) fn weighted_rms(x: &[f64], y: &[f64], rtol: f64, atol: f64) -> f64 {
+    let ratio = |(&xi, &yi): (&f64, &f64)| (xi / (atol + rtol * yi.abs())).abs();
+    let largest = x.iter().zip(y).map(ratio).fold(0.0, f64::max);
+    if largest == 0.0 || !largest.is_finite() {
+        return largest;
+    }
     let sum: f64 = x
         .iter()
         .zip(y)
-        .map(|(&xi, &yi)| {
-            let r = xi / (atol + rtol * yi.abs());
+        .map(|pair| {
+            let r = ratio(pair) / largest;
             r * r
         })
         .sum();
-    (sum / x.len() as f64).sqrt()
+    largest * (sum / x.len() as f64).sqrt()
 }
