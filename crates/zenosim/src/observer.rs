@@ -39,8 +39,11 @@ pub trait Observer {
     }
 
     /// Whether the caller wants the run to stop now (Ctrl-C, a cancelled sweep), asked before
-    /// every step. When it says yes, the run ends at once with [`crate::Outcome::Interrupted`]
-    /// at the current time, keeping everything computed up to there. Default false.
+    /// every step, and every 4096 points of a uniform output grid within a step (one step of a
+    /// body at rest may hold millions). When it says yes, the run ends with
+    /// [`crate::Outcome::Interrupted`] before its next step (the rest of the current step's
+    /// grid points are skipped, and the state where it stops is the last sample), keeping
+    /// everything computed up to there. Default false.
     fn interrupted(&mut self) -> bool {
         false
     }

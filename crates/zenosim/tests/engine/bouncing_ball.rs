@@ -173,6 +173,34 @@ fn an_interrupted_run_ends_where_it_was_asked_keeping_what_it_computed() {
     }
 }
 
+#[test]
+fn an_interrupt_during_a_long_step_of_a_fine_grid_waited_for_the_step() {
+    // At rest on the floor after its Zeno point, the ball takes steps of seconds, each holding
+    // millions of points of a 1e-6 grid: the observer was asked only between steps, so Ctrl-C
+    // took seconds (and the writer kept writing). It is now asked every 4096 grid points.
+    let ball = BouncingBall::new(1.0, G, 0.5);
+    let options = SimulationOptions {
+        t_end: 10.0,
+        output: zenosim::OutputGrid::Uniform(1e-6),
+        max_steps: u64::MAX,
+        ..Default::default()
+    };
+    let mut observer = StopAfter {
+        after: 3_000_000,
+        kept: Trajectory::default(),
+    };
+    let run = Simulation::new(&ball, &[H0], &[0.0], options)
+        .unwrap()
+        .run(&mut observer);
+    assert_eq!(run.outcome, Outcome::Interrupted);
+    // Within 4096 samples of the request (and one more: the state where it stopped).
+    let kept = observer.kept.points.len();
+    assert!((3_000_000..=3_004_097).contains(&kept), "{kept} samples");
+    let last = observer.kept.points.last().unwrap();
+    assert_eq!(run.t_final, last.t);
+    assert!(run.t_final < 10.0);
+}
+
 /// Regression: the test that a constraint can act compared squares of norms, which overflow for
 /// a ball of mass 1e-156 (`|M⁻¹Aᵀ|² = ∞`) and underflow for one of 1e201, so both failed with
 /// "∂h/∂q = 0" at the first impact. The mass cancels out of the motion: every mass gives the
