@@ -61,7 +61,7 @@ pub struct TrajectoryWriter<W: io::Write> {
     /// Whether a row did not fit under `max_bytes`.
     capped: bool,
     /// The last sample delivered since the cap was reached.
-    last: Option<OwnedSample>,
+    last: Option<zenosim::Point>,
     error: Option<io::Error>,
     progress: Progress,
     /// The constraints' names, for the held set in the `mode` column.
@@ -79,60 +79,6 @@ pub struct Written<W> {
     pub rows: u64,
     /// Whether the cap stopped the rows (the file holds those that fit and the final state).
     pub capped: bool,
-}
-
-/// A [`Sample`] kept past the call that delivered it.
-struct OwnedSample {
-    t: f64,
-    mode: Mode,
-    q: Vec<f64>,
-    q_dot: Vec<f64>,
-    h: Vec<f64>,
-    lambda: Vec<f64>,
-    energy: f64,
-    work: zenosim::Work,
-}
-
-impl OwnedSample {
-    fn of(s: &Sample<'_>) -> Self {
-        Self {
-            t: s.t,
-            mode: s.mode,
-            q: s.q.to_vec(),
-            q_dot: s.q_dot.to_vec(),
-            h: s.h.to_vec(),
-            lambda: s.lambda.to_vec(),
-            energy: s.energy,
-            work: s.work,
-        }
-    }
-
-    /// Becomes `s`, reusing its vectors.
-    fn set(&mut self, s: &Sample<'_>) {
-        (self.t, self.mode, self.energy, self.work) = (s.t, s.mode, s.energy, s.work);
-        for (mine, theirs) in [
-            (&mut self.q, s.q),
-            (&mut self.q_dot, s.q_dot),
-            (&mut self.h, s.h),
-            (&mut self.lambda, s.lambda),
-        ] {
-            mine.clear();
-            mine.extend_from_slice(theirs);
-        }
-    }
-
-    fn sample(&self) -> Sample<'_> {
-        Sample {
-            t: self.t,
-            mode: self.mode,
-            q: &self.q,
-            q_dot: &self.q_dot,
-            h: &self.h,
-            lambda: &self.lambda,
-            energy: self.energy,
-            work: self.work,
-        }
-    }
 }
 
 impl<W: io::Write> TrajectoryWriter<W> {
@@ -265,7 +211,7 @@ impl<W: io::Write> TrajectoryWriter<W> {
     fn hold_back(&mut self, s: &Sample<'_>) {
         match &mut self.last {
             Some(last) => last.set(s),
-            None => self.last = Some(OwnedSample::of(s)),
+            None => self.last = Some(zenosim::Point::of(s)),
         }
     }
 }

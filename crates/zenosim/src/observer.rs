@@ -115,9 +115,10 @@ impl Trajectory {
     }
 }
 
-impl Observer for Trajectory {
-    fn sample(&mut self, s: &Sample<'_>) {
-        self.points.push(Point {
+impl Point {
+    /// The sample `s`, kept past the call that delivered it.
+    pub fn of(s: &Sample<'_>) -> Point {
+        Point {
             t: s.t,
             mode: s.mode,
             q: s.q.to_vec(),
@@ -126,6 +127,40 @@ impl Observer for Trajectory {
             lambda: s.lambda.to_vec(),
             energy: s.energy,
             work: s.work,
-        });
+        }
+    }
+
+    /// Becomes the sample `s`, reusing its vectors.
+    pub fn set(&mut self, s: &Sample<'_>) {
+        (self.t, self.mode, self.energy, self.work) = (s.t, s.mode, s.energy, s.work);
+        for (mine, theirs) in [
+            (&mut self.q, s.q),
+            (&mut self.q_dot, s.q_dot),
+            (&mut self.h, s.h),
+            (&mut self.lambda, s.lambda),
+        ] {
+            mine.clear();
+            mine.extend_from_slice(theirs);
+        }
+    }
+
+    /// The point as a [`Sample`].
+    pub fn sample(&self) -> Sample<'_> {
+        Sample {
+            t: self.t,
+            mode: self.mode,
+            q: &self.q,
+            q_dot: &self.q_dot,
+            h: &self.h,
+            lambda: &self.lambda,
+            energy: self.energy,
+            work: self.work,
+        }
+    }
+}
+
+impl Observer for Trajectory {
+    fn sample(&mut self, s: &Sample<'_>) {
+        self.points.push(Point::of(s));
     }
 }
