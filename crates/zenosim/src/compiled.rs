@@ -651,10 +651,11 @@ impl Program {
 /// numbers. The results are the same, bit for bit (up to the sign of a zero): where a value the
 /// programs simplified away is not finite, zenosim differentiates instead.
 ///
-/// Each part (the Euler–Lagrange terms, each constraint's derivatives, each guard, the energy,
-/// the free motion, the motion held on each constraint and each constraint's direction) is
-/// traced on its own. A part whose code branches on a value (`abs`, `min`, `max`, a
-/// comparison) cannot be traced; zenosim then differentiates that part as usual.
+/// The parts (the Euler–Lagrange terms, each constraint's derivatives, each guard, the energy,
+/// and where `M` is constant the free motion, the motion held on each constraint and each
+/// constraint's direction) are traced in one recording, each once, and each becomes a program
+/// of its own. A part whose code branches on a value (`abs`, `min`, `max`, a comparison)
+/// cannot be traced; zenosim then differentiates that part as usual.
 #[derive(Clone, Debug)]
 pub struct Compiled {
     dimension: usize,
@@ -695,7 +696,7 @@ impl Compiled {
     }
 
     /// [`Compiled::trace`], tracing at most `max_operations` operations (those folded or found
-    /// again included, so that the time it takes is bounded too): past that the trace stops,
+    /// again included): past that the trace stops,
     /// and [`Compiled::exhausted`] says so. A model file's loading bounds its cost so
     /// (`Limits::max_operations` in zenosim-model).
     ///
@@ -920,7 +921,7 @@ impl Compiled {
 
     /// The operations of the traced code (each operation on a traced number, those folded
     /// into constants or found already recorded included): what [`Compiled::trace_bounded`]
-    /// bounds, and so the time it takes.
+    /// bounds.
     pub fn operations_traced(&self) -> u64 {
         self.traced
     }

@@ -92,8 +92,8 @@ pub const DEFAULT_MAX_DEPTH: usize = 256;
 /// The default of [`Limits::max_length`].
 pub const DEFAULT_MAX_LENGTH: usize = 100_000;
 
-/// The default of [`Limits::max_operations`]: 20 million, a few tenths of a second of
-/// tracing, over five times what a 20-link pendulum chain written out in full needs (3.6
+/// The default of [`Limits::max_operations`]: 10 million, 2.8 times what a 20-link pendulum
+/// chain written out in full needs (3.6
 /// million; the shipped models need at most a few thousand).
 pub const DEFAULT_MAX_OPERATIONS: usize = 10_000_000;
 
@@ -115,8 +115,10 @@ pub struct Limits {
     pub max_length: usize,
     /// The most operations that tracing a model file's derivatives may take (each operation
     /// the automatic differentiation does on a traced number: see
-    /// `zenosim::Compiled::trace_bounded`). It grows linearly with the formulas' size, and
-    /// bounds the time and memory that loading a model takes.
+    /// `zenosim::Compiled::trace_bounded`). It grows linearly with the formulas' size. It
+    /// bounds the trace, not yet the programs made from it: where `M` is constant, each
+    /// constraint's programs hold the whole force, so many constraints on a large force still
+    /// cost time and memory beyond it (issue 25, open).
     pub max_operations: usize,
 }
 
