@@ -258,7 +258,7 @@ impl Stepper {
 
     /// Take one accepted step of size at most h_max that never goes past t_stop (lands exactly on t_stop when it would pass it).
     /// Rejected trials are retried internally. A rhs error or non-finite values during a trial count as a rejection (h *= 0.25);
-    /// the error is returned only when h underflows (see [`underflow_threshold`]).
+    /// the error is returned only when h underflows (see the module documentation).
     ///
     /// The direction of integration is the sign of `t_stop - t()`; `t_stop`
     /// may be infinite, and `t_stop == t()` is a no-op. A step within 1% of the
