@@ -687,17 +687,11 @@ impl Compiled {
     /// [`MAX_DIMENSION`](crate::MAX_DIMENSION), or not the [`HybridLagrangian::DIMENSION`] its
     /// type declares, gets no programs (the simulation refuses it anyway).
     pub fn trace<L: HybridLagrangian>(model: &L) -> Compiled {
-        let n = model.dimension();
-        let count = model.constraints().len();
-        if crate::derivatives::checked_dimension(model).is_err() {
-            return Compiled::untraced(n, count);
-        }
-        with_dimension!(L; n, N => Self::trace_n::<N, L>(model))
+        Self::trace_bounded(model, u64::MAX)
     }
 
     /// [`Compiled::trace`], tracing at most `max_operations` operations (those folded or found
-    /// again included): past that the trace stops,
-    /// and [`Compiled::exhausted`] says so. A model file's loading bounds its cost so
+    /// again included): past that the trace stops, and [`Compiled::exhausted`] says so. A model file's loading bounds its cost so
     /// (`Limits::max_operations` in zenosim-model).
     ///
     /// The operations a model needs grow linearly with the size of its formulas: one trace of
@@ -714,11 +708,12 @@ impl Compiled {
     }
 
     /// [`Compiled::trace`] for a model of dimension `N` (the tests trace one `N` only).
+    #[cfg(test)]
     pub(crate) fn trace_n<const N: usize, L: HybridLagrangian>(model: &L) -> Compiled {
         Self::trace_within::<N, L>(model, u64::MAX)
     }
 
-    /// [`Compiled::trace_n`], recording at most `budget` operations.
+    /// [`Compiled::trace_bounded`] for a model of dimension `N`.
     ///
     /// One recording for every part: `M` and the force are traced once, and each part that
     /// needs them (the free motion, the motion held on each constraint) takes their traced
