@@ -16,7 +16,7 @@
 //! reading the real part) cannot be traced: such a question marks the tape *poisoned*, and the
 //! trace is discarded (the caller falls back to evaluating the duals directly).
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 use std::fmt;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -157,11 +157,8 @@ pub(crate) struct Tape {
     /// The operations of the traced code so far, those folded or found already on the tape
     /// included: what the trace has cost.
     work: u64,
-    /// The most operations the trace may record; past it the tape is [`Tape::exhausted`].
+    /// The most operations the trace may record; past it the trace is [`exhausted`].
     budget: u64,
-    /// Set when the trace needed more than its budget: every result since is unusable, and
-    /// the rest of the trace only folds constants (it costs next to nothing).
-    pub(crate) exhausted: bool,
     /// The current part of a [`Recording`] (from 1), and per entry the last part that listed
     /// it among the `witnesses` and among `nonzero`: each part lists an entry once, however
     /// often its code asks (a hyper-dual pass drops the same products in every pass).
@@ -192,7 +189,6 @@ impl Tape {
             poisoned: false,
             work: 0,
             budget,
-            exhausted: false,
             part: 1,
             listed: Vec::new(),
         }
@@ -370,6 +366,12 @@ impl Hasher for NodeHasher {
 
 thread_local! {
     static TAPE: RefCell<Option<Tape>> = const { RefCell::new(None) };
+    /// Set when the running trace needed more than its budget: every result since is
+    /// unusable, and the rest of the trace only folds constants (it costs next to nothing).
+    /// A flag of its own, not the tape's, because a model file asks it at every evaluation of
+    /// a formula over dual numbers, traced or not ([`crate::Compiled::trace_exhausted`]): a
+    /// plain read, where the tape takes a borrow.
+    static EXHAUSTED: Cell<bool> = const { Cell::new(false) };
 }
 
 /// Runs `f` on the current thread's tape; `None` when no trace is running.
@@ -383,8 +385,9 @@ pub(crate) fn active() -> bool {
 }
 
 /// Whether the running trace is past its budget.
+#[inline]
 pub(crate) fn exhausted() -> bool {
-    with_tape(|tape| tape.exhausted).unwrap_or(false)
+    EXHAUSTED.with(Cell::get)
 }
 
 /// Counts one operation of the traced code against the budget: `false` once past it (the
@@ -393,10 +396,10 @@ fn tick() -> bool {
     with_tape(|tape| {
         tape.work += 1;
         if tape.work > tape.budget {
-            tape.exhausted = true;
+            EXHAUSTED.with(|flag| flag.set(true));
             tape.poisoned = true;
         }
-        !tape.exhausted
+        !exhausted()
     })
     .unwrap_or(true)
 }
@@ -412,6 +415,7 @@ struct Session;
 impl Drop for Session {
     fn drop(&mut self) {
         TAPE.with(|tape| tape.borrow_mut().take());
+        EXHAUSTED.with(|flag| flag.set(false));
     }
 }
 
@@ -495,7 +499,7 @@ impl Recording {
         let checks = with_tape(|tape| Checks {
             finite: tape.witnesses[finite..].to_vec(),
             nonzero: tape.nonzero[nonzero..].to_vec(),
-            usable: !tape.poisoned && !tape.exhausted,
+            usable: !tape.poisoned && !exhausted(),
         })
         .unwrap_or(Checks {
             finite: Vec::new(),
@@ -512,7 +516,7 @@ impl Recording {
 
     /// Whether the recording needed more than its budget.
     pub(crate) fn exhausted(&self) -> bool {
-        with_tape(|tape| tape.exhausted).unwrap_or(true)
+        exhausted()
     }
 
     /// The tape, which ends the recording.
@@ -599,10 +603,6 @@ impl Sym {
 
     fn record(tainted: bool, node: impl FnOnce(&mut Tape) -> Node) -> Sym {
         with_tape(|tape| {
-            if tape.exhausted {
-                // Past the budget nothing is recorded: the rest of the trace folds NaNs.
-                return Sym::konst(f64::NAN);
-            }
             let node = node(tape);
             Sym::node(tape.push(node), tainted)
         })
