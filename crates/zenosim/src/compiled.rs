@@ -773,15 +773,12 @@ impl Compiled {
         if constant_mass {
             free = Some(whole(&|| outputs_of(&free_from(&terms)), &terms_checks));
             for (p, p_checks) in &parts {
-                let needs = terms_checks.and(p_checks);
-                held.push(whole(
-                    &|| outputs_of(&constrained_from(&terms, p, q_dot)),
-                    &needs,
-                ));
-                held_acc.push(whole(
-                    &|| outputs_of(&held_from(&constrained_from(&terms, p, q_dot))),
-                    &needs,
-                ));
+                // The acceleration held on the constraint is read from the motion held on it,
+                // traced once for both.
+                let (motion, own) = recording.part(|| constrained_from(&terms, p, q_dot));
+                let held_checks = own.and(&terms_checks.and(p_checks));
+                held.push((outputs_of(&motion), held_checks.clone()));
+                held_acc.push(whole(&|| outputs_of(&held_from(&motion)), &held_checks));
                 directions.push(whole(
                     &|| outputs_of(&direction_from(p, &Factor::new(&terms.mass)).0),
                     &mass_checks.and(p_checks),
