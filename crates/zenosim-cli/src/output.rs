@@ -150,9 +150,15 @@ impl OutputDir {
     /// Starts writing the file `name`, under a temporary name of its own, created exclusively.
     pub fn create(&self, name: &str) -> anyhow::Result<(PartialFile, File)> {
         let target = self.dir.join(name);
-        let (partial, file) = loop {
+        let (partial, registered, file) = loop {
             let n = NEXT_PARTIAL.fetch_add(1, Ordering::Relaxed);
             let partial = self.dir.join(partial_name(name, n));
+            // Registered before it exists, so that a second signal arriving between the
+            // creation and the registration cannot leave it behind (unlinking a name not yet
+            // created does nothing).
+            let registered = signals::register(&partial);
+            #[cfg(test)]
+            tests::trace(format!("register {name}"));
             // `create_new`: O_CREAT | O_EXCL, which fails on any existing entry, a symlink
             // included, instead of following it.
             match OpenOptions::new()
@@ -160,7 +166,12 @@ impl OutputDir {
                 .create_new(true)
                 .open(&partial)
             {
-                Ok(file) => break (partial, file),
+                Ok(file) => {
+                    #[cfg(test)]
+                    tests::trace(format!("create {name}"));
+                    break (partial, registered, file);
+                }
+                // Not ours: dropping the registration keeps a second signal off that entry.
                 Err(error) if error.kind() == io::ErrorKind::AlreadyExists => continue,
                 Err(error) => {
                     return Err(error)
@@ -170,7 +181,7 @@ impl OutputDir {
         };
         Ok((
             PartialFile {
-                _registered: signals::register(&partial),
+                _registered: registered,
                 partial,
                 target,
                 dir: Arc::clone(&self.lock),
@@ -399,6 +410,19 @@ mod tests {
 
     fn traced() -> Vec<String> {
         TRACE.with(|trace| std::mem::take(&mut *trace.borrow_mut()))
+    }
+
+    /// Regression (the kill loop of tests/kill.rs, 6 runs in 40): a second Ctrl-C that came
+    /// between a temporary file's creation and its registration for removal left the file
+    /// (`.summary.json.<pid>-1.partial`) behind. The name is now registered first.
+    #[test]
+    fn a_second_signal_left_a_partial_created_before_it_was_registered() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = OutputDir::prepare(dir.path()).unwrap();
+        traced();
+        let (partial, _file) = out.create("summary.json").unwrap();
+        assert_eq!(traced(), ["register summary.json", "create summary.json"]);
+        drop(partial);
     }
 
     /// Regression (the kill loop of tests/kill.rs): a run removed the old summary.json, renamed
