@@ -8,6 +8,7 @@ use zenosim_model::Override;
 use zenosim_runs::sweep::{Axis, RunSettings, Shard};
 
 use crate::plot::{Format, MapSpec, Plane};
+use crate::size::{Bytes, DEFAULT_MAX_OUTPUT};
 
 /// Simulate a Lagrangian hybrid system with impacts, written in a model file, through its Zeno
 /// points and on past them.
@@ -42,18 +43,23 @@ DIR is locked while the run writes into it: a second zenosim writing into DIR fa
 Each file is written to a temporary name of its own (.<file>.<pid>-<n>.partial, created
 exclusively: never through a symlink) and renamed when complete, at the end of the run: until
 then the previous run's files stay as they were, so a run that is killed leaves them untouched
-(and a hidden .partial file that the next command writing into DIR removes). The old
-summary.json and plots are removed just before the new files are renamed, summary.json last, so
-its presence means the files are complete and belong together. A write that fails (a full disk)
-stops the run at once. Ctrl-C (SIGINT) or SIGTERM stops the run at its next step and writes
-everything computed up to there, status \"interrupted\", exit status 130 (143 for SIGTERM); a
-second Ctrl-C stops at once, leaving the previous results as they were and no temporary file.
+(and a hidden .partial file that the next command writing into DIR removes). The old plots go
+and the old summary.json is moved aside just before the new files are renamed, back to back,
+summary.json last, so its presence means the files are complete and belong together (a SIGKILL
+in the microseconds of the renames leaves no summary.json). A write that fails (a full disk)
+stops the run at once. trajectory.csv is capped at --max-output (1GiB by default): the first row
+past it stops the run at its next step, as failed (status \"failed\", exit status 1); the file
+keeps the rows up to the cap and ends with the final state, one row past it. Ctrl-C (SIGINT)
+or SIGTERM stops the run at its next step and writes everything computed up to there, status
+\"interrupted\", exit status 130 (143 for SIGTERM); a second Ctrl-C stops at once, leaving the
+previous results as they were and no temporary file.
 With --plot, the plots are drawn from these files once they are complete, as `zenosim plot DIR`
 draws them (see `zenosim plot --help`).
 
-Exit status: 0 finished; 1 the simulation failed (the files are still completed, status
-\"failed\") or the output could not be written; 2 a bad model or bad arguments (nothing is
-written); 3 the run stopped at a Zeno point (--zeno off); 130 (143) interrupted by Ctrl-C (SIGTERM)."
+Exit status: 0 finished; 1 the simulation failed or reached a limit or the output cap (the files
+are still completed, status \"failed\") or the output could not be written; 2 a bad model or
+bad arguments (nothing is written); 3 the run stopped at a Zeno point (--zeno off); 130 (143)
+interrupted by Ctrl-C (SIGTERM)."
     )]
     Run(RunArgs),
     /// Draw the plots of a run from its output directory (summary.json and trajectory.csv).
@@ -100,7 +106,10 @@ which sweep (HASH: of the model file and the sweep's axes and settings) and whic
 the file with pandas as pd.read_csv(path, skiprows=1). It is written to a temporary name \
 (.<file>.<pid>-<n>.partial) and renamed when complete. Ctrl-C (or SIGTERM) stops the runs \
 under way and writes the rows done, exit status 130 (143); a second Ctrl-C stops at once, \
-writing nothing (the previous file stays as it was).
+writing nothing (the previous file stays as it was). The file is capped at --max-output (1GiB \
+by default): a sweep whose rows cannot fit even at a character a field is refused before it \
+runs; one whose rows turn out longer keeps the rows that fit, whole and in order, and exits 1 \
+(`zenosim merge` refuses such a file as incomplete).
 
 --shard K/N runs the points i with i % N = K - 1 (interleaved, so that the shards take \
 similar times): one part per job of a cluster's array (Slurm, Kubernetes indexed Jobs); \
@@ -113,8 +122,9 @@ invalid) in grey, hatched; written beside the file as <file stem>.svg (or .png w
 png).
 
 Exit status: 0 every run finished or stopped at a Zeno point; 1 a run failed or a point was \
-invalid (the file is still written, complete, their rows saying why), or the output could not \
-be written; 2 a bad model or bad arguments (nothing is written).";
+invalid (the file is still written, complete, their rows saying why), the file reached the \
+output cap, or the output could not be written; 2 a bad model or bad arguments (nothing is \
+written).";
 
 /// What `zenosim merge --help` says.
 const MERGE_HELP: &str = "The parts are the files of `zenosim sweep ... --shard K/N` for K = \
@@ -158,6 +168,13 @@ pub struct SweepArgs {
     /// The settings of every run.
     #[command(flatten)]
     pub settings: SettingArgs,
+
+    /// The most bytes the sweep's file may take: bytes, or K, M, G, T (powers of 1024: 100K,
+    /// 2GiB), or KB, MB, GB (of 1000). A sweep whose rows cannot fit is refused before it
+    /// runs; one whose rows turn out longer keeps those that fit and exits 1.
+    #[arg(long, value_name = "SIZE", default_value = DEFAULT_MAX_OUTPUT,
+          allow_negative_numbers = true, value_parser = parse_size)]
+    pub max_output: Bytes,
 
     /// Draw a map of QUANTITY (a column: t_zeno, impacts, final_x...) over the varied names X
     /// and Y, beside the file.
@@ -300,6 +317,13 @@ pub struct RunArgs {
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     pub max_steps: Option<u64>,
 
+    /// The most bytes trajectory.csv may take: bytes, or K, M, G, T (powers of 1024: 100K,
+    /// 2GiB), or KB, MB, GB (of 1000). When reached, the run stops there as failed, keeping
+    /// its rows up to the cap and its final state. Not settable in the model file.
+    #[arg(long, value_name = "SIZE", default_value = DEFAULT_MAX_OUTPUT,
+          allow_negative_numbers = true, value_parser = parse_size)]
+    pub max_output: Bytes,
+
     /// Bounds on the model file's formulas.
     #[command(flatten)]
     pub formulas: FormulaLimits,
@@ -361,8 +385,8 @@ impl ModelInput {
     }
 }
 
-/// How long and how deep a model file's formulas may be (they bound the work and the stack
-/// that a hostile or broken file can take).
+/// How long and how deep a model file's formulas may be, and how much work differentiating
+/// them may take (they bound the time, memory and stack that a hostile or broken file can take).
 #[derive(Clone, Copy, Debug, Args)]
 pub struct FormulaLimits {
     /// The longest formula accepted, in characters.
@@ -374,6 +398,12 @@ pub struct FormulaLimits {
     #[arg(long, value_name = "N", default_value_t = zenosim_model::expr::DEFAULT_MAX_DEPTH as u32,
           value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub max_formula_depth: u32,
+
+    /// The most operations that differentiating the model's formulas may take (it grows with
+    /// their size; loading stops with an error past it).
+    #[arg(long, value_name = "N", default_value_t = zenosim_model::expr::DEFAULT_MAX_OPERATIONS as u64,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_derivative_operations: u64,
 }
 
 impl FormulaLimits {
@@ -382,6 +412,7 @@ impl FormulaLimits {
         zenosim_model::Limits {
             max_length: self.max_formula_length as usize,
             max_depth: self.max_formula_depth as usize,
+            max_operations: usize::try_from(self.max_derivative_operations).unwrap_or(usize::MAX),
         }
     }
 }
@@ -457,6 +488,10 @@ fn parse_shard(text: &str) -> Result<Shard, String> {
 }
 
 fn parse_map(text: &str) -> Result<MapSpec, String> {
+    text.parse()
+}
+
+fn parse_size(text: &str) -> Result<Bytes, String> {
     text.parse()
 }
 

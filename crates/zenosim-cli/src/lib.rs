@@ -23,6 +23,7 @@ mod plot;
 mod progress;
 mod run;
 mod signals;
+mod size;
 mod sweep;
 mod sweep_file;
 mod trajectory;

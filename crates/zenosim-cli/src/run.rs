@@ -9,11 +9,12 @@ use anyhow::{anyhow, Context};
 use zenosim::{Execution, HybridLagrangian, Outcome, OutputGrid, Simulation, SimulationOptions};
 use zenosim_model::ModelFile;
 use zenosim_runs::json_layout;
-use zenosim_runs::message::{failure, message, plural};
+use zenosim_runs::message::{failure, message, output_cap, plural};
 use zenosim_runs::number::number;
 use zenosim_runs::summary::{
     constraint_names, status, EnergyBalanceJson, Record, Summary, TrajectoryJson,
 };
+use zenosim_runs::Status;
 
 use crate::cli::RunArgs;
 use crate::output::{OutputDir, PartialFile};
@@ -82,18 +83,32 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         &file.velocity_names(),
         &constraints,
         !autonomous,
+        args.max_output.0,
         Progress::new(options.t_end),
     );
     let execution = simulation.run(&mut writer);
-    let rows = writer.rows();
-    let csv_file = writer
+    // A write error (a full disk) stopped the run at once too, but nothing can be kept then.
+    let written = writer
         .finish()
         .with_context(|| format!("cannot write {}", csv_partial.target().display()))
         .output()?;
-    let csv_finished = csv_partial.finish(csv_file).output()?;
+    let (rows, capped) = (written.rows, written.capped);
+    let csv_finished = csv_partial.finish(written.out).output()?;
 
-    let message = message(&execution, &constraints);
-    let summary = Record {
+    // The cap stopped the run (as Ctrl-C would, at its next step): a failure, like a limit.
+    let (status, message) = if capped {
+        let cap = args.max_output.to_string();
+        (
+            Status::Failed.word(),
+            output_cap(&execution, TRAJECTORY, &cap),
+        )
+    } else {
+        (
+            status(&execution.outcome),
+            message(&execution, &constraints),
+        )
+    };
+    let mut summary = Record {
         file: &file,
         options: &options,
         run: &execution,
@@ -105,17 +120,18 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         },
     }
     .summary();
+    summary.status = status;
     let balance = summary.energy_balance;
     let summary_finished = write_summary(&out, &summary)?;
 
-    // Both files are complete. The previous run's summary and plots go, then the trajectory
-    // and the summary take their final names, the summary last: a summary.json is only ever
-    // beside the files it describes (a kill between these renames leaves no summary at all).
+    // Both files are complete. The previous run's plots go, then its summary, and the
+    // trajectory and the summary take their final names, back to back, the summary last: a
+    // summary.json is only ever beside the files it describes (a SIGKILL in the microseconds
+    // between the old summary leaving and the new one arriving leaves no summary at all).
     let summary_path = summary_finished.target().to_path_buf();
     signals::committing(|| {
-        out.remove(std::iter::once(SUMMARY.to_string()).chain(plot::plot_files()))?;
-        csv_finished.publish()?;
-        summary_finished.publish()
+        out.remove(plot::plot_files())?;
+        out.replace(SUMMARY, [csv_finished, summary_finished])
     })
     .output()?;
 
@@ -130,6 +146,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     let balance = (!autonomous).then_some(&balance);
     print_report(&report(
         &message,
+        status,
         &file,
         &execution,
         &constraints,
@@ -137,6 +154,20 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         &files,
     ));
     let code = match &execution.outcome {
+        _ if capped => {
+            let trajectory = out.path(TRAJECTORY);
+            print_error(&format!(
+                "the run stopped at t = {}: {} reached the output cap of {} (--max-output); it \
+                 holds {rows} rows, those up to the cap and the final state, and summary.json \
+                 says so (status failed). Raise the cap (e.g. --max-output {}), or write fewer \
+                 rows: a coarser --dt, or an earlier --t-end",
+                number(execution.t_final),
+                trajectory.display(),
+                args.max_output,
+                args.max_output.doubled().flag(),
+            ));
+            EXIT_FAILED
+        }
         Outcome::Finished => EXIT_OK,
         Outcome::ZenoStalled { .. } => EXIT_ZENO_STALLED,
         Outcome::Failed(error) => {
@@ -218,6 +249,7 @@ pub fn default_dir(name: &str) -> PathBuf {
 /// autonomous).
 fn report(
     message: &str,
+    status: &str,
     file: &ModelFile,
     run: &Execution,
     constraints: &[String],
@@ -227,7 +259,7 @@ fn report(
     let name = |index: usize| constraints.get(index).map_or("?", String::as_str);
     let mut text = String::new();
     let _ = writeln!(text, "{}: {message}", file.name);
-    let _ = writeln!(text, "  status:  {}", status(&run.outcome));
+    let _ = writeln!(text, "  status:  {status}");
     let _ = writeln!(
         text,
         "  final:   t = {}, mode {}",

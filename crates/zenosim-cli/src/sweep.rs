@@ -69,13 +69,26 @@ pub fn sweep(args: &SweepArgs) -> Result<u8, Failure> {
         .check_runs(shard)
         .map_err(anyhow::Error::from)
         .bad_input()?;
+    let identity = Identity::of(&sweep, shard);
+    let total = shard.len_of(sweep.points().len());
+    let least = sweep_file::least_size(&identity, &columns, total);
+    if least > args.max_output.0 {
+        return Err(anyhow!(
+            "--max-output {}: the sweep's {} would take at least {least} bytes in {} (a \
+             character a field), more than the cap; raise the cap well above that (rows are \
+             usually several times longer), or split the sweep into parts (--shard K/N)",
+            args.max_output,
+            plural(total, "row"),
+            path.display(),
+        ))
+        .bad_input();
+    }
     // The output is opened (and its folder locked) before the runs: a bad --out is said at
     // once, not after hours of runs.
     let out = OutputDir::prepare(&dir).output()?;
     let (partial, file) = out.create(&name).output()?;
     let target = partial.target().to_path_buf();
 
-    let total = shard.len_of(sweep.points().len());
     let bar = RunsDone::new(total);
     let workers = args.workers.map(|w| w as usize);
     let table = sweep
@@ -89,12 +102,19 @@ pub fn sweep(args: &SweepArgs) -> Result<u8, Failure> {
         .output()?;
     bar.finish();
 
-    let identity = Identity::of(&sweep, shard);
-    let file = sweep_file::write(BufWriter::new(file), &identity, &columns, &table.rows)
-        .and_then(|w| w.into_inner().map_err(|e| e.into_error()))
-        .with_context(|| format!("cannot write {}", target.display()))
-        .output()?;
+    let max_bytes = args.max_output.0;
+    let (file, kept) = sweep_file::write(
+        BufWriter::new(file),
+        &identity,
+        &columns,
+        &table.rows,
+        max_bytes,
+    )
+    .and_then(|(w, kept)| Ok((w.into_inner().map_err(|e| e.into_error())?, kept)))
+    .with_context(|| format!("cannot write {}", target.display()))
+    .output()?;
     partial.commit(file).output()?;
+    let capped = kept < table.rows.len();
 
     let mut written = vec![path.clone()];
     let map = match &args.plot {
@@ -120,7 +140,19 @@ pub fn sweep(args: &SweepArgs) -> Result<u8, Failure> {
             plural(invalid, "point")
         ));
     }
-    let code = if let (true, Some(signal)) = (table.interrupted, signals::received()) {
+    let code = if capped {
+        print_error(&format!(
+            "{} reached the output cap of {} (--max-output): it holds the rows of the first {} \
+             of {}, the others are lost; raise the cap (e.g. --max-output {}), or split the \
+             sweep into parts (--shard K/N)",
+            path.display(),
+            args.max_output,
+            plural(kept, "run"),
+            table.total,
+            args.max_output.doubled().flag()
+        ));
+        EXIT_FAILED
+    } else if let (true, Some(signal)) = (table.interrupted, signals::received()) {
         print_error(&format!(
             "the sweep was interrupted by {} after {} of {}: the rows done are in {}",
             signals::name(signal),

@@ -21,6 +21,8 @@ use zenosim::ZenoStrategy;
 use zenosim_runs::number::format_number;
 use zenosim_runs::sweep::{Combine, Row, Shard, Sweep};
 
+use crate::output::Record;
+
 /// The first line's start, up to the format's version.
 const PREFIX: &str = "# zenosim sweep v1 ";
 /// The longest first line read (a model's name is short).
@@ -159,19 +161,28 @@ fn csv_writer<W: Write>(out: W) -> csv::Writer<W> {
         .from_writer(out)
 }
 
-/// Writes the file of `identity`: its first line, the header `columns`, and `rows`.
+/// Writes the file of `identity`: its first line, the header `columns`, and `rows`, as many of
+/// them as fit in `max_bytes` (the first line and the header are always written). Returns the
+/// writer and the number of rows written.
 pub fn write<W: Write>(
     mut out: W,
     identity: &Identity,
     columns: &[String],
     rows: &[Row],
-) -> io::Result<W> {
-    writeln!(out, "{}", identity.line())?;
-    let mut csv = csv_writer(out);
+    max_bytes: u64,
+) -> io::Result<(W, usize)> {
+    let first = identity.line();
+    writeln!(out, "{first}")?;
+    // Each record is formatted on its own, so that its length is known before it is written.
+    let record = Record::default();
+    let mut csv = csv_writer(record.clone());
     csv.write_record(columns)?;
+    csv.flush()?;
+    let mut bytes = first.len() as u64 + 1 + record.len();
+    record.take_into(&mut out)?;
     let mut number = String::new();
     let mut fields: Vec<String> = Vec::with_capacity(columns.len());
-    for row in rows {
+    for (written, row) in rows.iter().enumerate() {
         fields.clear();
         fields.push(row.index.to_string());
         let numbers = |fields: &mut Vec<String>, number: &mut String, xs: &[f64]| {
@@ -192,8 +203,25 @@ pub fn write<W: Write>(
         numbers(&mut fields, &mut number, &row.q_dot);
         fields.push(row.message.clone());
         csv.write_record(&fields)?;
+        csv.flush()?;
+        bytes += record.len();
+        if bytes > max_bytes {
+            return Ok((out, written));
+        }
+        record.take_into(&mut out)?;
     }
-    csv.into_inner().map_err(|error| error.into_error())
+    Ok((out, rows.len()))
+}
+
+/// The fewest bytes the file of `identity` can take with `points` rows of `columns`: its first
+/// line, the header, and rows of one character a field (no value can be written shorter).
+pub fn least_size(identity: &Identity, columns: &[String], points: usize) -> u64 {
+    let first = identity.line().len() as u64 + 1;
+    let header: u64 = columns.iter().map(|c| c.len() as u64 + 1).sum();
+    // Each field a character and its comma (the last its newline); the status at least
+    // `failed` (5 more), the message at least `failed: …` (7 more).
+    let row = 2 * columns.len() as u64 + 12;
+    first + header + row.saturating_mul(points as u64)
 }
 
 /// A sweep file open for reading, its first line and header read.

@@ -6,6 +6,7 @@ use std::io;
 use zenosim::{Event, Mode, Observer, Sample};
 use zenosim_runs::number::format_number;
 
+use crate::output::Record;
 use crate::progress::Progress;
 
 /// The energy balance's columns, after `energy`, in a run of a model that is not autonomous:
@@ -41,10 +42,26 @@ pub fn header<'a>(
 ///
 /// [`Observer::sample`] cannot fail, so the first write error is kept (and nothing more is
 /// written); [`TrajectoryWriter::finish`] returns it.
+///
+/// The file is capped at `max_bytes` (`--max-output`): the first row that would take it past
+/// the cap is not written, nor is any after it but the last one the run delivers (its final
+/// state), which [`TrajectoryWriter::finish`] writes past the cap so that the file ends, as
+/// always, with the state `summary.json` calls final. [`Observer::interrupted`] then stops the
+/// run at its next step, as a write error does.
 pub struct TrajectoryWriter<W: io::Write> {
-    csv: csv::Writer<W>,
+    /// Formats one row at a time into `row`, so that its length is known before it is written.
+    csv: csv::Writer<Record>,
+    row: Record,
+    out: io::BufWriter<W>,
     number: String,
     rows: u64,
+    /// The bytes written so far, the header included.
+    bytes: u64,
+    max_bytes: u64,
+    /// Whether a row did not fit under `max_bytes`.
+    capped: bool,
+    /// The last sample delivered since the cap was reached.
+    last: Option<zenosim::Point>,
     error: Option<io::Error>,
     progress: Progress,
     /// The constraints' names, for the held set in the `mode` column.
@@ -54,26 +71,41 @@ pub struct TrajectoryWriter<W: io::Write> {
     work: bool,
 }
 
+/// What [`TrajectoryWriter::finish`] wrote.
+pub struct Written<W> {
+    /// The underlying writer, flushed.
+    pub out: W,
+    /// The data rows.
+    pub rows: u64,
+    /// Whether the cap stopped the rows (the file holds those that fit and the final state).
+    pub capped: bool,
+}
+
 impl<W: io::Write> TrajectoryWriter<W> {
     /// A writer of the columns `t,mode,<q...>,<q_dot...>,h_<c>...,lambda_<c>...,energy`, and
     /// when `work` (a model that is not autonomous) the energy balance's [`WORK_COLUMNS`];
     /// `mode` is `free`, or `constrained:` and the names of the constraints held, joined by `+`
-    /// (`constrained:floor+wall`).
+    /// (`constrained:floor+wall`). The rows stop at `max_bytes` (but for the final state).
     pub fn new(
         out: W,
         coordinates: &[String],
         velocities: &[String],
         constraints: &[String],
         work: bool,
+        max_bytes: u64,
         progress: Progress,
     ) -> Self {
-        let csv = csv::WriterBuilder::new()
-            .buffer_capacity(1 << 16)
-            .from_writer(out);
+        let row = Record::default();
         let mut writer = Self {
-            csv,
+            csv: csv::Writer::from_writer(row.clone()),
+            row,
+            out: io::BufWriter::with_capacity(1 << 16, out),
             number: String::with_capacity(32),
             rows: 0,
+            bytes: 0,
+            max_bytes,
+            capped: false,
+            last: None,
             error: None,
             progress,
             constraints: constraints.to_vec(),
@@ -81,29 +113,48 @@ impl<W: io::Write> TrajectoryWriter<W> {
             work,
         };
         let header = header(coordinates.iter().chain(velocities), constraints, work);
-        let written = writer.csv.write_record(header);
+        // The header is written whatever the cap: a file without it is no CSV.
+        let written = writer
+            .csv
+            .write_record(header)
+            .map_err(io::Error::from)
+            .and_then(|()| writer.put());
         writer.keep(written);
         writer
     }
 
     /// The data rows written so far.
+    #[cfg(test)]
     pub fn rows(&self) -> u64 {
         self.rows
     }
 
-    /// Flushes everything and returns the underlying writer, or the first error.
-    pub fn finish(mut self) -> io::Result<W> {
+    /// Writes the final state if the cap held it back, flushes everything and returns the
+    /// underlying writer with what was written, or the first error.
+    pub fn finish(mut self) -> io::Result<Written<W>> {
         self.progress.finish();
+        if let Some(last) = self.last.take() {
+            if self.error.is_none() {
+                let written = self.format(&last.sample()).and_then(|()| self.put());
+                self.keep(written);
+                self.rows += 1;
+            }
+        }
         if let Some(error) = self.error {
             return Err(error);
         }
-        self.csv.into_inner().map_err(|error| error.into_error())
+        let out = self.out.into_inner().map_err(|error| error.into_error())?;
+        Ok(Written {
+            out,
+            rows: self.rows,
+            capped: self.capped,
+        })
     }
 
-    fn keep(&mut self, result: csv::Result<()>) {
+    fn keep(&mut self, result: io::Result<()>) {
         if let Err(error) = result {
             if self.error.is_none() {
-                self.error = Some(error.into());
+                self.error = Some(error);
             }
         }
     }
@@ -113,7 +164,14 @@ impl<W: io::Write> TrajectoryWriter<W> {
         self.csv.write_field(self.number.as_bytes())
     }
 
-    fn row(&mut self, s: &Sample<'_>) -> csv::Result<()> {
+    /// Formats the row of `s`; [`TrajectoryWriter::put`] writes it.
+    fn format(&mut self, s: &Sample<'_>) -> io::Result<()> {
+        self.format_row(s)?;
+        // Into `row` (memory: no I/O).
+        self.csv.flush()
+    }
+
+    fn format_row(&mut self, s: &Sample<'_>) -> csv::Result<()> {
         self.field(s.t)?;
         self.mode.clear();
         self.mode.push_str(s.mode.name());
@@ -137,6 +195,25 @@ impl<W: io::Write> TrajectoryWriter<W> {
         }
         self.csv.write_record(None::<&[u8]>)
     }
+
+    /// The length of the row formatted, in bytes.
+    fn formatted(&self) -> u64 {
+        self.row.len()
+    }
+
+    /// Writes the row formatted.
+    fn put(&mut self) -> io::Result<()> {
+        self.bytes += self.row.len();
+        self.row.take_into(&mut self.out)
+    }
+
+    /// Keeps `s` as the last sample delivered past the cap.
+    fn hold_back(&mut self, s: &Sample<'_>) {
+        match &mut self.last {
+            Some(last) => last.set(s),
+            None => self.last = Some(zenosim::Point::of(s)),
+        }
+    }
 }
 
 impl<W: io::Write> Observer for TrajectoryWriter<W> {
@@ -145,18 +222,33 @@ impl<W: io::Write> Observer for TrajectoryWriter<W> {
         if self.error.is_some() {
             return;
         }
-        let written = self.row(sample);
+        if self.capped {
+            self.hold_back(sample);
+            return;
+        }
+        if let Err(error) = self.format(sample) {
+            self.keep(Err(error));
+            return;
+        }
+        if self.bytes + self.formatted() > self.max_bytes {
+            self.capped = true;
+            self.row.clear();
+            self.hold_back(sample);
+            return;
+        }
+        let written = self.put();
         self.keep(written);
         self.rows += 1;
     }
 
     fn event(&mut self, _event: &Event) {}
 
-    /// A write failed (a full disk): the run stops at once, its record kept, instead of
-    /// simulating to the end for rows that cannot be written. So does a first Ctrl-C or
-    /// SIGTERM ([`crate::signals`]).
+    /// A write failed (a full disk), or the file reached its cap: the run stops at once, its
+    /// record kept, instead of simulating to the end for rows that cannot be written. So does
+    /// a first Ctrl-C or SIGTERM ([`crate::signals`]).
     fn interrupted(&mut self) -> bool {
         self.error.is_some()
+            || self.capped
             || crate::signals::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed)
     }
 }
@@ -175,6 +267,7 @@ mod tests {
             &names(&["x_dot", "y_dot"]),
             &names(&["floor", "left wall"]),
             false,
+            u64::MAX,
             Progress::hidden(),
         );
         writer.sample(&Sample {
@@ -188,12 +281,57 @@ mod tests {
             work: zenosim::Work::default(),
         });
         assert_eq!(writer.rows(), 1);
-        let text = String::from_utf8(writer.finish().unwrap()).unwrap();
+        let text = String::from_utf8(writer.finish().unwrap().out).unwrap();
         assert_eq!(
             text,
             "t,mode,x,y,x_dot,y_dot,h_floor,h_left wall,lambda_floor,lambda_left wall,energy\n\
              0.5,constrained:left wall,1,2e-20,-0.25,0,1,0,0,-9.81,NaN\n"
         );
+    }
+
+    /// The cap keeps the rows that fit, then the last sample delivered (the final state), and
+    /// asks the run to stop.
+    #[test]
+    fn the_cap_keeps_the_rows_that_fit_and_the_final_state() {
+        let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let header = "t,mode,x,x_dot,h_floor,lambda_floor,energy\n";
+        let row = |t: f64| format!("{t},free,1,0,1,0,9\n");
+        // Room for the header and exactly two rows of one digit's time.
+        let cap = (header.len() + 2 * row(1.0).len()) as u64;
+        let mut writer = TrajectoryWriter::new(
+            Vec::new(),
+            &names(&["x"]),
+            &names(&["x_dot"]),
+            &names(&["floor"]),
+            false,
+            cap,
+            Progress::hidden(),
+        );
+        assert!(!writer.interrupted());
+        for k in 1..=5 {
+            writer.sample(&Sample {
+                t: k as f64,
+                mode: Mode::Free,
+                q: &[1.0],
+                q_dot: &[0.0],
+                h: &[1.0],
+                lambda: &[0.0],
+                energy: 9.0,
+                work: zenosim::Work::default(),
+            });
+            // Two rows fit; the third does not, and from then on the run is asked to stop.
+            assert_eq!(writer.interrupted(), k >= 3, "k = {k}");
+        }
+        assert_eq!(writer.rows(), 2);
+        let written = writer.finish().unwrap();
+        assert!(written.capped);
+        assert_eq!(written.rows, 3);
+        let text = String::from_utf8(written.out).unwrap();
+        assert_eq!(
+            text,
+            format!("{header}{}{}{}", row(1.0), row(2.0), row(5.0))
+        );
+        assert_eq!(text.len() as u64, cap + row(5.0).len() as u64);
     }
 
     #[test]
@@ -205,6 +343,7 @@ mod tests {
             &names(&["y_dot"]),
             &names(&["floor"]),
             true,
+            u64::MAX,
             Progress::hidden(),
         );
         let work = zenosim::Work {
@@ -229,7 +368,7 @@ mod tests {
             });
         }
         assert_eq!(writer.rows(), 2);
-        let text = String::from_utf8(writer.finish().unwrap()).unwrap();
+        let text = String::from_utf8(writer.finish().unwrap().out).unwrap();
         assert_eq!(
             text,
             "t,mode,y,y_dot,h_floor,lambda_floor,energy,\
@@ -262,10 +401,11 @@ mod tests {
             &names(&["y_dot"]),
             &names(&["floor"]),
             true,
+            u64::MAX,
             Progress::hidden(),
         );
         let run = simulation.run(&mut writer);
-        let text = String::from_utf8(writer.finish().unwrap()).unwrap();
+        let text = String::from_utf8(writer.finish().unwrap().out).unwrap();
         let mut lines = text.lines();
         assert_eq!(
             lines.next(),

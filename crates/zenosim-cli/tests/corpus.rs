@@ -166,6 +166,21 @@ fn a_hundred_thousand_nested_parentheses_are_refused_fast() {
     assert_exit(&output, 0);
 }
 
+#[test]
+fn a_model_whose_derivatives_exceed_the_limit_runs_once_it_is_raised() {
+    let source = std::fs::read_to_string(corpus("bad").join("derivatives-too-large.toml"))
+        .expect("in the corpus");
+    let scratch = Scratch::new(&source);
+    let err = refused(&scratch, &["check", "model.toml"]);
+    assert!(
+        err.contains("more than the limit of 10000000 operations"),
+        "{err}"
+    );
+    // It needs about 11 million: raised to 20 million, it runs.
+    let output = scratch.run(&["--max-derivative-operations", "20000000", "--t-end", "0.01"]);
+    assert_exit(&output, 0);
+}
+
 /// What a fault's run must say: the model, and the cause in its message.
 const FAULTS: [(&str, &str); 7] = [
     ("blow-up", "the step size"),

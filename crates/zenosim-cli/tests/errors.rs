@@ -77,6 +77,11 @@ fn bad_flag_values_are_refused() {
         ["--t-end", "-2"],
         ["--dt", "0"],
         ["--dt", "x"],
+        ["--max-output", "0"],
+        ["--max-output", "-1"],
+        ["--max-output", "1Q"],
+        ["--max-output", "K"],
+        ["--max-output", "99999999999T"],
     ] {
         let err = run_refused(&scratch, &args);
         assert!(err.contains(args[0]), "{err}");

@@ -471,6 +471,80 @@ fn a_full_disk_stops_the_run_at_once_exit_1_leaving_no_partial_file() {
     );
 }
 
+/// Regression (issue 25: output bounded only by the row limit, a 6.4 KB model wrote 21 GB):
+/// `--max-output` caps trajectory.csv. A model file asking for 10⁷ rows (about 700 MB) under a
+/// cap of 100 KiB stops at once: the file is valid CSV, holds the rows up to the cap and then
+/// the final state (one row past the cap at most), summary.json says `failed` and why, the exit
+/// status is 1, and the message names the cap, the file and what to do. The model file cannot
+/// raise the cap itself.
+#[test]
+fn the_output_cap_stops_the_run_keeping_its_rows_and_saying_what_to_do() {
+    let hostile = BALL.replace("t_end = 2.0", "t_end = 1e4\ndt = 1e-3");
+    let scratch = Scratch::new(&hostile);
+    let started = std::time::Instant::now();
+    let output = scratch.run(&["--max-output", "100K"]);
+    assert!(started.elapsed().as_secs() < 30, "{:?}", started.elapsed());
+    assert_exit(&output, 1);
+    let out = scratch.path("out");
+    assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
+
+    let cap = 100 * 1024;
+    let text = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    let last_row = text.lines().last().unwrap().len() as u64 + 1;
+    let size = text.len() as u64;
+    assert!(size <= cap + last_row, "{size} bytes");
+    // Filled to the cap, less than a row short.
+    assert!(size + 2 * last_row > cap, "{size} bytes");
+    let csv = Csv::read(&out.join("trajectory.csv"));
+    assert!(csv.rows.len() > 1000, "{} rows", csv.rows.len());
+
+    let s = summary(&out);
+    assert_eq!(s["status"], "failed");
+    let message = s["message"].as_str().unwrap();
+    for part in [
+        "trajectory.csv",
+        "output cap of 100 KiB",
+        "--max-output",
+        "--dt",
+        "--t-end",
+    ] {
+        assert!(message.contains(part), "{part}: {message}");
+    }
+    assert_eq!(
+        s["trajectory"]["rows"].as_u64(),
+        Some(csv.rows.len() as u64)
+    );
+    // The file ends with the final state, as every run's does.
+    let last = csv.rows.last().unwrap();
+    assert_eq!(s["final"]["t"].as_f64(), Some(last.t));
+    assert_eq!(numbers(&s["final"]["q"]), last.values[0..1]);
+    assert_eq!(numbers(&s["final"]["q_dot"]), last.values[1..2]);
+    assert!(last.t < 10.0, "t = {}", last.t);
+
+    let err = stderr(&output);
+    for part in [
+        "error: the run stopped at t = ",
+        "out/trajectory.csv reached the output cap of 100 KiB (--max-output)",
+        &format!("it holds {} rows", csv.rows.len()),
+        "status failed",
+        "--max-output 200KiB",
+        "a coarser --dt, or an earlier --t-end",
+    ] {
+        assert!(err.contains(part), "{part}: {err}");
+    }
+    let report = stdout(&output);
+    assert!(report.contains("status:  failed"), "{report}");
+
+    // The cap is the command line's: a model file cannot raise it.
+    let raised = Scratch::new(&hostile.replace("dt = 1e-3", "dt = 1e-3\nmax_output = \"1T\""));
+    assert_exit(&raised.run(&[]), 2);
+    assert!(!raised.path("out").exists());
+    // Its default is 1 GiB.
+    let help = stdout(&scratch.zenosim(&["run", "--help"]));
+    assert!(help.contains("--max-output <SIZE>"), "{help}");
+    assert!(help.contains("[default: 1GiB]"), "{help}");
+}
+
 /// Regression: a symlink planted in the output directory under the temporary name
 /// (`.trajectory.csv.partial -> ~/anything`) made the run overwrite its target with the
 /// user's rights. Temporary files are now created exclusively under names of their own, a

@@ -440,6 +440,61 @@ fn sigint_stops_a_sweep_and_writes_the_rows_done() {
     assert_exit(&merged, 2);
 }
 
+/// Issue 25: the sweep's file is capped by `--max-output` too. A sweep whose rows cannot fit
+/// even at a character a field is refused before it runs (exit 2, nothing written); one whose
+/// rows turn out longer keeps the rows that fit, whole, and exits 1 naming the cap, the file
+/// and what to do; `zenosim merge` refuses such a file as incomplete.
+#[test]
+fn the_output_cap_bounds_the_sweeps_file() {
+    let s = Scratch::new(BALL);
+    let many = [
+        "sweep",
+        "model.toml",
+        "--vary",
+        "e=0.1:0.9:1000",
+        "--t-end",
+        "0.5",
+    ];
+    let refused = s.zenosim(&[&many[..], &["--out", "r.csv", "--max-output", "10K"]].concat());
+    assert_exit(&refused, 2);
+    let err = stderr(&refused);
+    for part in ["--max-output 10 KiB", "1000 rows", "r.csv", "--shard K/N"] {
+        assert!(err.contains(part), "{part}: {err}");
+    }
+    assert!(!s.path("r.csv").exists());
+
+    let whole = sweep(&s, &["--out", "whole.csv"]);
+    assert_exit(&whole, 0);
+    let whole = read(&s.path("whole.csv"));
+    assert_eq!(rows(&whole).len(), 12);
+    // Room for about half of the rows.
+    let cap = whole.len() / 2;
+    let capped = sweep(&s, &["--out", "c.csv", "--max-output", &cap.to_string()]);
+    assert_exit(&capped, 1);
+    let text = read(&s.path("c.csv"));
+    assert!(text.len() <= cap, "{} bytes", text.len());
+    let kept = rows(&text).len();
+    assert!((3..12).contains(&kept), "{kept} rows");
+    // The rows kept are the whole sweep's first rows, byte for byte.
+    assert!(whole.starts_with(&text));
+    let err = stderr(&capped);
+    for part in [
+        "c.csv reached the output cap of",
+        &format!("the first {kept} runs of 12"),
+        "--max-output",
+        "--shard K/N",
+    ] {
+        assert!(err.contains(part), "{part}: {err}");
+    }
+    let merged = s.zenosim(&["merge", "c.csv", "--out", "m.csv"]);
+    assert_exit(&merged, 2);
+    assert!(
+        stderr(&merged).contains("incomplete"),
+        "{}",
+        stderr(&merged)
+    );
+}
+
 /// Regressions from review: counts that allocate without bound (an axis of 10¹⁴ values, a
 /// product of 10¹⁰ runs in one process, a part claiming 10¹¹ shards) were aborts; a part cut
 /// inside its last row merged (exit 0); a bad --out was found only after every run; a map of

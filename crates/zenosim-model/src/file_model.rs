@@ -136,6 +136,15 @@ impl FileModel {
     }
 }
 
+/// Whether a trace of the derivatives is past its budget ([`Compiled::trace_bounded`]): what
+/// it still traces is discarded, so the formulas are not evaluated (a model at the limit is
+/// refused within the time the budget allows, not after every remaining evaluation). Over
+/// `f64` nothing is traced, and nothing is asked.
+#[inline(always)]
+fn over_budget<D: Scalar>() -> bool {
+    D::NDERIV > 0 && Compiled::trace_exhausted()
+}
+
 impl HybridLagrangian for FileModel {
     fn dimension(&self) -> usize {
         self.coordinates.len()
@@ -144,11 +153,14 @@ impl HybridLagrangian for FileModel {
     /// `L` at `t = 0` (the same at every `t` for a Lagrangian without `t`).
     #[inline]
     fn lagrangian<D: Scalar>(&self, q: &[D], q_dot: &[D]) -> D {
-        self.lagrangian.eval_at(q, q_dot, D::from(0.0))
+        self.lagrangian_at(D::from(0.0), q, q_dot)
     }
 
     #[inline]
     fn lagrangian_at<D: Scalar>(&self, t: D, q: &[D], q_dot: &[D]) -> D {
+        if over_budget::<D>() {
+            return D::from(f64::NAN);
+        }
         self.lagrangian.eval_at(q, q_dot, t)
     }
 
@@ -159,18 +171,24 @@ impl HybridLagrangian for FileModel {
     /// `h` at `t = 0` (the same at every `t` for a constraint without `t`).
     #[inline]
     fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D {
-        self.h[index].eval_at(q, &[], D::from(0.0))
+        self.constraint_at(index, D::from(0.0), q)
     }
 
     /// `h` reads no velocity: with `q` alone before it, its time slot `2n` is past the end.
     #[inline]
     fn constraint_at<D: Scalar>(&self, index: usize, t: D, q: &[D]) -> D {
+        if over_budget::<D>() {
+            return D::from(f64::NAN);
+        }
         self.h[index].eval_at(q, &[], t)
     }
 
     /// Adds each formula of `[forces]` to its coordinate's entry.
     #[inline]
     fn generalized_force<D: Scalar>(&self, t: D, q: &[D], q_dot: &[D], force: &mut [D]) {
+        if over_budget::<D>() {
+            return;
+        }
         for (slot, formula) in &self.forces {
             force[*slot] += formula.eval_at(q, q_dot, t);
         }
@@ -178,6 +196,9 @@ impl HybridLagrangian for FileModel {
 
     #[inline]
     fn dissipation<D: Scalar>(&self, t: D, q: &[D], q_dot: &[D]) -> D {
+        if over_budget::<D>() {
+            return D::from(f64::NAN);
+        }
         match &self.dissipation {
             Some(formula) => formula.eval_at(q, q_dot, t),
             None => D::from(0.0),

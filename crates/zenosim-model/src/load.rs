@@ -1,6 +1,6 @@
 //! Reading a model file: TOML to a checked [`ModelFile`], every mistake reported with its place.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::ops::Range;
 use std::str::FromStr;
 
@@ -294,7 +294,22 @@ struct Names<'a> {
     coordinates: &'a [String],
     velocities: &'a [String],
     parameters: &'a [(String, f64)],
+    /// Each parameter's index in `parameters`: a file may define tens of thousands, and every
+    /// name in every formula is looked up.
+    index: &'a ParameterIndex<'a>,
     reads: Reads,
+}
+
+/// The parameters' indices by name.
+type ParameterIndex<'a> = HashMap<&'a str, usize>;
+
+/// The index of `parameters` (the first of a repeated name: the TOML reader refuses repeats).
+fn parameter_index(parameters: &[(String, f64)]) -> ParameterIndex<'_> {
+    let mut index = HashMap::with_capacity(parameters.len());
+    for (k, (name, _)) in parameters.iter().enumerate() {
+        index.entry(name.as_str()).or_insert(k);
+    }
+    index
 }
 
 impl Names<'_> {
@@ -320,7 +335,7 @@ impl Scope for Names<'_> {
     fn resolve(&self, name: &str) -> Option<usize> {
         let time = || (name == "t").then(|| self.time_slot());
         match self.reads {
-            Reads::ParameterSlots => self.parameters.iter().position(|(p, _)| p == name),
+            Reads::ParameterSlots => self.index.get(name).copied(),
             Reads::Constants => None,
             Reads::Coordinates => self
                 .coordinates
@@ -335,10 +350,7 @@ impl Scope for Names<'_> {
         if self.reads == Reads::ParameterSlots {
             return None;
         }
-        self.parameters
-            .iter()
-            .find(|(p, _)| p == name)
-            .map(|&(_, value)| value)
+        self.index.get(name).map(|&k| self.parameters[k].1)
     }
 }
 
@@ -463,10 +475,12 @@ impl<'s> Cx<'s> {
         let coordinates = self.coordinates(root)?;
         let velocities: Vec<String> = coordinates.iter().map(|c| format!("{c}_dot")).collect();
         let parameters = self.parameters(root, &coordinates, &velocities, overrides)?;
+        let index = parameter_index(&parameters);
         let names = |reads| Names {
             coordinates: &coordinates,
             velocities: &velocities,
             parameters: &parameters,
+            index: &index,
             reads,
         };
 
@@ -521,7 +535,22 @@ impl<'s> Cx<'s> {
         let mut model = FileModel::new(coordinates, lagrangian, constraints, forces, dissipation);
         self.check_initial_state(root, &model, &initial)?;
         self.check_initial_forces(root, &model, &initial)?;
-        let compiled = Compiled::trace(&model);
+        let compiled = Compiled::trace_bounded(&model, self.limits.max_operations as u64);
+        if compiled.exhausted() {
+            let limit = self.limits.max_operations;
+            return Err(self.at(
+                lagrangian_item.span().start,
+                "lagrangian",
+                format!(
+                    "differentiating the model's formulas takes more than the limit of {limit} \
+                     operations"
+                ),
+                "the shipped models need a few thousand, a 20-link pendulum chain written out \
+                 in full 3.6 million: shorten the formulas, or, if the model is right as it is, \
+                 raise the limit: `zenosim run --max-derivative-operations N` (Limits in the \
+                 library)",
+            ));
+        }
         // A constant traced free motion is a parabola only where the forces it leaves out are
         // constant too.
         model.parabolic = compiled.constant_free_motion() && model.forces_are_constant();
@@ -886,10 +915,12 @@ impl<'s> Cx<'s> {
 
         // Each parameter's formula, over the parameters as slots, to find the dependencies.
         let slots: Vec<(String, f64)> = formulas.iter().map(|(p, _)| (p.clone(), 0.0)).collect();
+        let index = parameter_index(&slots);
         let names = Names {
             coordinates,
             velocities,
             parameters: &slots,
+            index: &index,
             reads: Reads::ParameterSlots,
         };
         let compiled = formulas
@@ -1206,7 +1237,7 @@ impl<'s> Cx<'s> {
         }
         let what = if name == "t" {
             "`t` is the time, not a coordinate".to_string()
-        } else if state.parameters.iter().any(|(p, _)| p == name) {
+        } else if state.index.contains_key(name) {
             format!("`{name}` is a parameter, not a coordinate")
         } else {
             format!("`{name}` is not a coordinate")
@@ -1279,7 +1310,7 @@ impl<'s> Cx<'s> {
                             "[initial] gives the state at t = 0, where every run starts; it sets coordinates and velocities",
                         ));
                     }
-                    if constants.parameters.iter().any(|(p, _)| p == name) {
+                    if constants.index.contains_key(name) {
                         return Err(self.at(
                             key.span().start,
                             &path,
@@ -1689,7 +1720,7 @@ fn describe(error: &ExprError, names: &Names<'_>, what: &str) -> (String, String
         );
     };
     let is = |list: &[String]| list.iter().any(|c| c == name);
-    let parameter = names.parameters.iter().any(|(p, _)| p == name);
+    let parameter = names.index.contains_key(name.as_str());
     let (message, help) = if name == "t" && names.reads.rank() < Reads::Coordinates.rank() {
         (
             format!("{what} uses the time `t`"),

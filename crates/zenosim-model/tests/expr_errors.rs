@@ -351,6 +351,7 @@ fn a_hundred_thousand_parentheses_fail_fast() {
     let unlimited = Limits {
         max_depth: usize::MAX,
         max_length: usize::MAX,
+        max_operations: usize::MAX,
     };
     let e = Expression::parse_with(&deep, &["x"], &unlimited).unwrap();
     assert_eq!(e.eval(&[3.0]), 3.0);

@@ -37,6 +37,18 @@ pub fn message(run: &Execution, constraints: &[String]) -> String {
     }
 }
 
+/// What happened in `run` when its trajectory's file `file` reached the output cap `cap` (as
+/// `1 GiB`) and stopped it: a failure, saying what to do.
+pub fn output_cap(run: &Execution, file: &str, cap: &str) -> String {
+    format!(
+        "failed: at t = {}: {file} reached the output cap of {cap}, which stopped the run; its \
+         rows up to the cap and the final state are kept; raise the cap (--max-output SIZE), or \
+         write fewer rows: a coarser dt (--dt) or an earlier t_end (--t-end) (after {})",
+        number(run.t_final),
+        plural(run.stats.impacts as usize, "impact")
+    )
+}
+
 /// Why a run failed, saying how to raise a limit (on the command line or in the file).
 pub fn failure(error: &Error) -> String {
     match error {

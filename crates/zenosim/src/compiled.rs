@@ -15,15 +15,15 @@
 //! the paper's ball in free flight costs no operation at all.
 
 use crate::derivatives::{
-    constraint_parts_of, energy_of, guard_along_of, lagrangian_terms_of, with_dimension,
+    constraint_parts_of, energy_of, force_of, guard_along_of, mass_matrix_of, with_dimension,
     ConstraintParts, LagrangianTerms,
 };
 use crate::model::HybridLagrangian;
 use crate::motion::{
-    constrained_motion_of, direction_of, free_motion_of, held_acceleration_of, ConstrainedMotion,
-    Direction, FreeMotion, HeldAcceleration, HeldView,
+    constrained_from, direction_from, free_from, held_from, ConstrainedMotion, Direction, Factor,
+    FreeMotion, HeldAcceleration, HeldView, Outputs,
 };
-use crate::trace::{self, Bin, Node, Sym, Tape, Term, Un};
+use crate::trace::{self, Bin, Checks, Node, Sym, Tape, Term, Un};
 use nalgebra::{SMatrix, SVector};
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -261,17 +261,17 @@ enum Negations {
     UnlessWanted,
 }
 
+/// The numbers of a traced motion in the order of its [`Outputs`].
+fn outputs_of<O: Outputs<Sym>>(motion: &O) -> Vec<Sym> {
+    let mut out = Vec::new();
+    motion.write(&mut out);
+    out
+}
+
 /// The next [`Program::id`] (0 is no program).
 static NEXT_ID: AtomicU64 = AtomicU64::new(1);
 
 impl Program {
-    /// Traces `f` over `inputs` traced inputs into a program computing its outputs; `None` when
-    /// `f` cannot be traced.
-    fn trace(inputs: usize, f: &dyn Fn(&[Sym]) -> Vec<Sym>) -> Option<Program> {
-        let (tape, outputs) = trace::trace(inputs, f)?;
-        Some(Program::from_tape(&tape, inputs, &outputs, None))
-    }
-
     /// Keeps the entries of `tape` that `outputs` depend on, in order, doing its negations as
     /// `negations` says (`None`: in the way that takes the fewest steps).
     fn from_tape(
@@ -497,26 +497,6 @@ impl Program {
         }
     }
 
-    /// Traces `f`, whose result is laid out by its [`Outputs`](crate::motion::Outputs).
-    fn trace_outputs<O: crate::motion::Outputs<Sym>>(
-        inputs: usize,
-        f: impl Fn(&[Sym]) -> O,
-    ) -> Option<Program> {
-        Program::trace(inputs, &|x| {
-            let mut out = Vec::new();
-            f(x).write(&mut out);
-            out
-        })
-    }
-
-    /// Whether output `k` is a constant (the same at every state).
-    fn output_is_constant(&self, k: usize) -> bool {
-        let constants = self.inputs..self.inputs + self.constants.len();
-        self.outputs
-            .get(k)
-            .is_some_and(|&r| constants.contains(&(r as usize)))
-    }
-
     /// Runs the program and reads its outputs as an `O`.
     fn run_outputs<O: crate::motion::Outputs<f64>>(
         &self,
@@ -671,10 +651,11 @@ impl Program {
 /// numbers. The results are the same, bit for bit (up to the sign of a zero): where a value the
 /// programs simplified away is not finite, zenosim differentiates instead.
 ///
-/// Each part (the Euler–Lagrange terms, each constraint's derivatives, each guard, the energy,
-/// the free motion, the motion held on each constraint and each constraint's direction) is
-/// traced on its own. A part whose code branches on a value (`abs`, `min`, `max`, a
-/// comparison) cannot be traced; zenosim then differentiates that part as usual.
+/// The parts (the Euler–Lagrange terms, each constraint's derivatives, each guard, the energy,
+/// and where `M` is constant the free motion, the motion held on each constraint and each
+/// constraint's direction) are traced in one recording, each once, and each becomes a program
+/// of its own. A part whose code branches on a value (`abs`, `min`, `max`, a comparison)
+/// cannot be traced; zenosim then differentiates that part as usual.
 #[derive(Clone, Debug)]
 pub struct Compiled {
     dimension: usize,
@@ -693,8 +674,12 @@ pub struct Compiled {
     held_acc: Vec<Option<Program>>,
     /// Per constraint: its direction.
     directions: Vec<Option<Program>>,
-    /// Whether every entry of `M` is a constant ([`Compiled::constant_mass`]).
+    /// Whether the traced `M` is constant: the motion is then traced whole too.
     constant_mass: bool,
+    /// Whether the trace needed more operations than its budget allowed (and has no programs).
+    exhausted: bool,
+    /// The operations the trace recorded (see [`Compiled::operations_traced`]).
+    traced: u64,
 }
 
 impl Compiled {
@@ -702,107 +687,146 @@ impl Compiled {
     /// [`MAX_DIMENSION`](crate::MAX_DIMENSION), or not the [`HybridLagrangian::DIMENSION`] its
     /// type declares, gets no programs (the simulation refuses it anyway).
     pub fn trace<L: HybridLagrangian>(model: &L) -> Compiled {
+        Self::trace_bounded(model, u64::MAX)
+    }
+
+    /// [`Compiled::trace`], tracing at most `max_operations` operations (those folded or found
+    /// again included): past that the trace stops, and [`Compiled::exhausted`] says so. A model file's loading bounds its cost so
+    /// (`Limits::max_operations` in zenosim-model).
+    ///
+    /// The operations a model needs grow linearly with the size of its formulas: one trace of
+    /// `M` (`n(n+1)/2` evaluations of `L` over hyper-dual numbers), the force (`2n`
+    /// evaluations), the energy (one), and each constraint's derivatives (`n + 1` evaluations
+    /// of `h`), each a few operations per operation of the formula.
+    pub fn trace_bounded<L: HybridLagrangian>(model: &L, max_operations: u64) -> Compiled {
         let n = model.dimension();
         let count = model.constraints().len();
         if crate::derivatives::checked_dimension(model).is_err() {
-            return Compiled {
-                dimension: n,
-                terms: None,
-                constraints: vec![None; count],
-                guards: vec![None; count],
-                energy: None,
-                free: None,
-                held: vec![None; count],
-                held_acc: vec![None; count],
-                directions: vec![None; count],
-                constant_mass: false,
-            };
+            return Compiled::untraced(n, count);
         }
-        with_dimension!(L; n, N => Self::trace_n::<N, L>(model))
+        with_dimension!(L; n, N => Self::trace_within::<N, L>(model, max_operations))
     }
 
     /// [`Compiled::trace`] for a model of dimension `N` (the tests trace one `N` only).
+    #[cfg(test)]
     pub(crate) fn trace_n<const N: usize, L: HybridLagrangian>(model: &L) -> Compiled {
+        Self::trace_within::<N, L>(model, u64::MAX)
+    }
+
+    /// [`Compiled::trace_bounded`] for a model of dimension `N`.
+    ///
+    /// One recording for every part: `M` and the force are traced once, and each part that
+    /// needs them (the free motion, the motion held on each constraint) takes their traced
+    /// numbers rather than tracing the Lagrangian again, so that the cost of tracing is that
+    /// of `M`, the force, the energy and each constraint's derivatives, each once. Each part's
+    /// program keeps what its outputs need of the one tape.
+    fn trace_within<const N: usize, L: HybridLagrangian>(model: &L, budget: u64) -> Compiled {
         let count = model.constraints().len();
         // The inputs: q, q̇, then t.
         let inputs = 2 * N + 1;
-        let split = |x: &[Sym]| (x[2 * N], x[..N].to_vec(), x[N..2 * N].to_vec());
-        let terms = Program::trace(inputs, &|x| {
-            let (t, q, q_dot) = split(x);
-            let terms: LagrangianTerms<N, Sym> =
-                lagrangian_terms_of::<Sym, N, L>(model, t, &q, &q_dot);
-            let mut out = Vec::with_capacity(N * (N + 1) / 2 + N);
-            for i in 0..N {
-                for j in i..N {
-                    out.push(terms.mass[(i, j)]);
-                }
-            }
-            out.extend(terms.force.iter().copied());
-            out
-        });
-        let constraints = (0..count)
+        let Some(recording) = trace::Recording::start(inputs, budget) else {
+            return Compiled::untraced(N, count);
+        };
+        let x = recording.inputs();
+        let (t, q, q_dot) = (x[2 * N], &x[..N], &x[N..2 * N]);
+        let (mass, mass_checks) =
+            recording.part(|| mass_matrix_of::<Sym, N, L>(model, t, q, q_dot));
+        let (force, force_checks) = recording.part(|| force_of::<Sym, N, L>(model, t, q, q_dot));
+        let terms = LagrangianTerms { mass, force };
+        let terms_checks = mass_checks.and(&force_checks);
+        let energy = recording.part(|| vec![energy_of::<Sym, L>(model, t, q, q_dot)]);
+        let parts: Vec<_> = (0..count)
             .map(|index| {
-                Program::trace(inputs, &|x| {
-                    let (t, q, q_dot) = split(x);
-                    let c = constraint_parts_of::<Sym, N, L>(model, index, t, &q, &q_dot);
-                    let mut out = vec![c.h];
-                    out.extend(c.gradient.iter().copied());
-                    out.push(c.a_q_dot);
-                    out.extend(c.hessian_q_dot.iter().copied());
-                    out.push(c.h_t);
-                    out.push(c.time_drift);
-                    out
-                })
+                recording.part(|| constraint_parts_of::<Sym, N, L>(model, index, t, q, q_dot))
             })
             .collect();
-        let guards = (0..count)
+        let guards: Vec<_> = (0..count)
             .map(|index| {
-                Program::trace(inputs, &|x| {
-                    let (t, q, q_dot) = split(x);
-                    let (h, h_dot, h_ddot) = guard_along_of::<Sym, L>(model, index, t, &q, &q_dot);
+                recording.part(|| {
+                    let (h, h_dot, h_ddot) = guard_along_of::<Sym, L>(model, index, t, q, q_dot);
                     vec![h, h_dot, h_ddot]
                 })
             })
             .collect();
-        let energy = Program::trace(inputs, &|x| {
-            let (t, q, q_dot) = split(x);
-            vec![energy_of::<Sym, L>(model, t, &q, &q_dot)]
-        });
-        let free = Program::trace_outputs(inputs, |x| {
-            let (t, q, q_dot) = split(x);
-            free_motion_of::<Sym, N, L>(model, t, &q, &q_dot)
-        });
-        let held = (0..count)
-            .map(|index| {
-                Program::trace_outputs(inputs, |x| {
-                    let (t, q, q_dot) = split(x);
-                    constrained_motion_of::<Sym, N, L>(model, index, t, &q, &q_dot)
-                })
-            })
-            .collect();
-        let held_acc = (0..count)
-            .map(|index| {
-                Program::trace_outputs(inputs, |x| {
-                    let (t, q, q_dot) = split(x);
-                    held_acceleration_of::<Sym, N, L>(model, index, t, &q, &q_dot)
-                })
-            })
-            .collect();
-        let directions = (0..count)
-            .map(|index| {
-                Program::trace_outputs(inputs, |x| {
-                    let (t, q, q_dot) = split(x);
-                    direction_of::<Sym, N, L>(model, index, t, &q, &q_dot)
-                })
-            })
-            .collect();
         let entries = N * (N + 1) / 2;
-        let constant_mass = terms
-            .as_ref()
-            .is_some_and(|p: &Program| (0..entries).all(|k| p.output_is_constant(k)));
+        let mut terms_out = Vec::with_capacity(entries + N);
+        for i in 0..N {
+            for j in i..N {
+                terms_out.push(terms.mass[(i, j)]);
+            }
+        }
+        terms_out.extend(terms.force.iter().copied());
+        let constant_mass =
+            terms_checks.usable && terms_out[..entries].iter().all(|m| m.constant().is_some());
+
+        // The motion whole, where `M` is constant: its factorisation folds away, and each
+        // right-hand side is one program (where `M` varies, the motion is assembled from the
+        // parts at run time, and these programs would go unused).
+        let whole = |outputs: &dyn Fn() -> Vec<Sym>, needs: &Checks| {
+            let (outputs, own) = recording.part(outputs);
+            (outputs, own.and(needs))
+        };
+        let mut free = None;
+        let mut held = Vec::new();
+        let mut held_acc = Vec::new();
+        let mut directions = Vec::new();
+        if constant_mass {
+            free = Some(whole(&|| outputs_of(&free_from(&terms)), &terms_checks));
+            for (p, p_checks) in &parts {
+                // The acceleration held on the constraint is read from the motion held on it,
+                // traced once for both.
+                let (motion, own) = recording.part(|| constrained_from(&terms, p, q_dot));
+                let held_checks = own.and(&terms_checks.and(p_checks));
+                held.push((outputs_of(&motion), held_checks.clone()));
+                held_acc.push(whole(&|| outputs_of(&held_from(&motion)), &held_checks));
+                directions.push(whole(
+                    &|| outputs_of(&direction_from(p, &Factor::new(&terms.mass)).0),
+                    &mass_checks.and(p_checks),
+                ));
+            }
+        }
+        let exhausted = recording.exhausted();
+        let traced = recording.work();
+        let tape = recording.finish();
+        let mut scratch = Vec::new();
+        let mut program = |(outputs, checks): &(Vec<Sym>, Checks)| {
+            (checks.usable && !exhausted).then(|| {
+                let (part, outputs) = tape.extract(outputs, checks, &mut scratch);
+                Program::from_tape(&part, inputs, &outputs, None)
+            })
+        };
+        let constraint_outputs = |c: &ConstraintParts<N, Sym>| {
+            let mut out = vec![c.h];
+            out.extend(c.gradient.iter().copied());
+            out.push(c.a_q_dot);
+            out.extend(c.hessian_q_dot.iter().copied());
+            out.push(c.h_t);
+            out.push(c.time_drift);
+            out
+        };
+        let terms = program(&(terms_out, terms_checks));
+        let energy = program(&energy);
+        let constraints = parts
+            .iter()
+            .map(|(p, checks)| program(&(constraint_outputs(p), checks.clone())))
+            .collect();
+        let guards = guards.iter().map(&mut program).collect();
+        let free = free.as_ref().and_then(&mut program);
+        let mut programs = |list: &[(Vec<Sym>, Checks)]| -> Vec<Option<Program>> {
+            if list.is_empty() {
+                vec![None; count]
+            } else {
+                list.iter().map(&mut program).collect()
+            }
+        };
+        let held = programs(&held);
+        let held_acc = programs(&held_acc);
+        let directions = programs(&directions);
         Compiled {
             dimension: N,
             constant_mass,
+            exhausted,
+            traced,
             terms,
             constraints,
             guards,
@@ -814,6 +838,31 @@ impl Compiled {
         }
     }
 
+    /// A model with no programs.
+    fn untraced(dimension: usize, count: usize) -> Compiled {
+        Compiled {
+            dimension,
+            terms: None,
+            constraints: vec![None; count],
+            guards: vec![None; count],
+            energy: None,
+            free: None,
+            held: vec![None; count],
+            held_acc: vec![None; count],
+            directions: vec![None; count],
+            constant_mass: false,
+            exhausted: false,
+            traced: 0,
+        }
+    }
+
+    /// Whether a trace with a budget ([`Compiled::trace_bounded`]) is running on this thread
+    /// and has used it up: the rest of the trace is discarded, so a model whose functions are
+    /// costly to evaluate (an interpreted formula) may skip them while this holds.
+    pub fn trace_exhausted() -> bool {
+        trace::exhausted()
+    }
+
     /// Whether a trace is running on this thread: the numbers a model's functions see are then
     /// traced and have no values (asking for one makes that part untraceable). A function that
     /// adjusts num-dual's results by their values (a model file keeps the real parts of dual
@@ -822,20 +871,28 @@ impl Compiled {
         trace::active()
     }
 
-    /// Every part, traced or not.
+    /// Every part that applies, traced or not: the motion's whole programs apply only where
+    /// `M` is constant.
     fn parts(&self) -> impl Iterator<Item = &Option<Program>> {
-        [&self.terms, &self.energy, &self.free]
+        let whole = if self.constant_mass {
+            self.held.len()
+        } else {
+            0
+        };
+        [&self.terms, &self.energy]
             .into_iter()
+            .chain(self.constant_mass.then_some(&self.free))
             .chain(&self.constraints)
             .chain(&self.guards)
-            .chain(&self.held)
-            .chain(&self.held_acc)
-            .chain(&self.directions)
+            .chain(&self.held[..whole])
+            .chain(&self.held_acc[..whole])
+            .chain(&self.directions[..whole])
     }
 
-    /// How many of the parts were traced, and how many there are: the Euler–Lagrange terms, the
-    /// energy and the free motion, and five per constraint (its derivatives, its guard, the
-    /// motion held on it, the acceleration held on it and its direction).
+    /// How many of the parts were traced, and how many apply: the Euler–Lagrange terms, the
+    /// energy, and two per constraint (its derivatives and its guard); where `M` is constant,
+    /// also the free motion and three per constraint (the motion held on it, the acceleration
+    /// held on it and its direction).
     pub fn coverage(&self) -> (usize, usize) {
         let total = self.parts().count();
         (self.parts().filter(|p| p.is_some()).count(), total)
@@ -846,11 +903,25 @@ impl Compiled {
         self.parts().flatten().map(|p| p.work).sum()
     }
 
-    /// Whether `M` is constant: the traced Euler–Lagrange terms give every entry of `M` as a
-    /// constant. The motion's programs then fold `M`'s factorisation away and are the cheaper
-    /// way to the motion; otherwise its parts are (see [`crate::motion`]).
-    pub(crate) fn constant_mass(&self) -> bool {
-        self.constant_mass
+    /// Whether the motion is traced whole: where the traced Euler–Lagrange terms give every
+    /// entry of `M` as a constant, the motion's programs fold `M`'s factorisation away and are
+    /// the cheaper way to the motion; otherwise its parts are (see [`crate::motion`]), and the
+    /// motion is not traced whole.
+    pub(crate) fn whole_motion(&self) -> bool {
+        self.free.is_some()
+    }
+
+    /// The operations of the traced code (each operation on a traced number, those folded
+    /// into constants or found already recorded included): what [`Compiled::trace_bounded`]
+    /// bounds.
+    pub fn operations_traced(&self) -> u64 {
+        self.traced
+    }
+
+    /// Whether the trace stopped at its budget ([`Compiled::trace_bounded`]): the model's
+    /// derivatives need more operations than it allows, and no part is traced.
+    pub fn exhausted(&self) -> bool {
+        self.exhausted
     }
 
     /// Whether the free motion is traced and the same at every state: a constant `M` and
@@ -1097,5 +1168,34 @@ mod tests {
         let kept = with(None).work;
         assert_eq!(kept, *work.iter().min().unwrap());
         assert!(kept < work[0], "{work:?}");
+    }
+}
+
+#[cfg(test)]
+mod budget_tests {
+    use super::*;
+    use crate::models::{BallOnSine, PendulumChain};
+
+    /// What a budget does: enough for the trace changes nothing; one operation less, and the
+    /// trace keeps no program and says so.
+    fn check<L: HybridLagrangian>(model: &L) {
+        let full = Compiled::trace(model);
+        assert!(!full.exhausted());
+        let needed = full.operations_traced();
+        let enough = Compiled::trace_bounded(model, needed);
+        assert!(!enough.exhausted());
+        assert_eq!(enough.coverage(), full.coverage());
+        assert_eq!(enough.operations(), full.operations());
+        let short = Compiled::trace_bounded(model, needed - 1);
+        assert!(short.exhausted());
+        assert_eq!(short.coverage(), (0, full.coverage().1));
+        assert!(!Compiled::is_tracing() && !Compiled::trace_exhausted());
+    }
+
+    #[test]
+    fn a_trace_past_its_budget_keeps_no_program() {
+        // M varies (the parts only) and M constant (the motion whole, too).
+        check(&PendulumChain::new(4, 0.5, 0.5, 9.81, 1.0, 0.5));
+        check(&BallOnSine::paper().model);
     }
 }

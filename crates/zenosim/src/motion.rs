@@ -16,7 +16,7 @@ use crate::model::{HybridLagrangian, Scalar};
 use nalgebra::{SMatrix, SVector};
 
 /// The Cholesky factor `M = L Lᵀ`, computed without branching on a value.
-struct Factor<const N: usize, T> {
+pub(crate) struct Factor<const N: usize, T> {
     /// `L`, lower triangle.
     l: SMatrix<T, N, N>,
     /// The pivots `L_jj²` before their square roots: `M` is positive definite exactly when all
@@ -25,7 +25,7 @@ struct Factor<const N: usize, T> {
 }
 
 impl<const N: usize, T: Scalar> Factor<N, T> {
-    fn new(m: &SMatrix<T, N, N>) -> Self {
+    pub(crate) fn new(m: &SMatrix<T, N, N>) -> Self {
         let mut l = SMatrix::<T, N, N>::zeros();
         let mut pivots = SVector::<T, N>::zeros();
         for j in 0..N {
@@ -297,7 +297,9 @@ pub(crate) fn free_motion_of<T: Scalar, const N: usize, L: HybridLagrangian>(
 }
 
 /// The free motion from `M` and the force.
-fn free_from<T: Scalar, const N: usize>(terms: &LagrangianTerms<N, T>) -> FreeMotion<N, T> {
+pub(crate) fn free_from<T: Scalar, const N: usize>(
+    terms: &LagrangianTerms<N, T>,
+) -> FreeMotion<N, T> {
     let factor = Factor::new(&terms.mass);
     FreeMotion {
         acc: factor.solve(&terms.force),
@@ -306,7 +308,7 @@ fn free_from<T: Scalar, const N: usize>(terms: &LagrangianTerms<N, T>) -> FreeMo
 }
 
 /// A constraint's direction under `factor`, with `∇²h q̇`.
-fn direction_from<T: Scalar, const N: usize>(
+pub(crate) fn direction_from<T: Scalar, const N: usize>(
     parts: &ConstraintParts<N, T>,
     factor: &Factor<N, T>,
 ) -> (Direction<N, T>, SVector<T, N>) {
@@ -350,7 +352,7 @@ pub(crate) fn constrained_motion_of<T: Scalar, const N: usize, L: HybridLagrangi
 }
 
 /// The motion held on a constraint from `M`, the force and the constraint's derivatives.
-fn constrained_from<T: Scalar, const N: usize>(
+pub(crate) fn constrained_from<T: Scalar, const N: usize>(
     terms: &LagrangianTerms<N, T>,
     parts: &ConstraintParts<N, T>,
     q_dot: &[T],
@@ -386,7 +388,7 @@ pub(crate) fn held_acceleration_of<T: Scalar, const N: usize, L: HybridLagrangia
 }
 
 /// What a right-hand side needs of the motion held on a constraint.
-fn held_from<T: Scalar, const N: usize>(
+pub(crate) fn held_from<T: Scalar, const N: usize>(
     motion: &ConstrainedMotion<N, T>,
 ) -> HeldAcceleration<N, T> {
     let d = &motion.direction;
@@ -413,7 +415,7 @@ pub(crate) enum Route<'c> {
 
 pub(crate) fn route<L: HybridLagrangian>(model: &L) -> Route<'_> {
     match model.compiled() {
-        Some(c) if c.constant_mass() => Route::Whole(c),
+        Some(c) if c.whole_motion() => Route::Whole(c),
         Some(c) => Route::Parts(c),
         None => Route::None,
     }

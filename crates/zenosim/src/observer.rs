@@ -39,8 +39,11 @@ pub trait Observer {
     }
 
     /// Whether the caller wants the run to stop now (Ctrl-C, a cancelled sweep), asked before
-    /// every step. When it says yes, the run ends at once with [`crate::Outcome::Interrupted`]
-    /// at the current time, keeping everything computed up to there. Default false.
+    /// every step, and every 4096 points of a uniform output grid within a step (one step of a
+    /// body at rest may hold millions). When it says yes, the run ends with
+    /// [`crate::Outcome::Interrupted`] before its next step (the rest of the current step's
+    /// grid points are skipped, and the state where it stops is the last sample), keeping
+    /// everything computed up to there. Default false.
     fn interrupted(&mut self) -> bool {
         false
     }
@@ -112,9 +115,10 @@ impl Trajectory {
     }
 }
 
-impl Observer for Trajectory {
-    fn sample(&mut self, s: &Sample<'_>) {
-        self.points.push(Point {
+impl Point {
+    /// The sample `s`, kept past the call that delivered it.
+    pub fn of(s: &Sample<'_>) -> Point {
+        Point {
             t: s.t,
             mode: s.mode,
             q: s.q.to_vec(),
@@ -123,6 +127,40 @@ impl Observer for Trajectory {
             lambda: s.lambda.to_vec(),
             energy: s.energy,
             work: s.work,
-        });
+        }
+    }
+
+    /// Becomes the sample `s`, reusing its vectors.
+    pub fn set(&mut self, s: &Sample<'_>) {
+        (self.t, self.mode, self.energy, self.work) = (s.t, s.mode, s.energy, s.work);
+        for (mine, theirs) in [
+            (&mut self.q, s.q),
+            (&mut self.q_dot, s.q_dot),
+            (&mut self.h, s.h),
+            (&mut self.lambda, s.lambda),
+        ] {
+            mine.clear();
+            mine.extend_from_slice(theirs);
+        }
+    }
+
+    /// The point as a [`Sample`].
+    pub fn sample(&self) -> Sample<'_> {
+        Sample {
+            t: self.t,
+            mode: self.mode,
+            q: &self.q,
+            q_dot: &self.q_dot,
+            h: &self.h,
+            lambda: &self.lambda,
+            energy: self.energy,
+            work: self.work,
+        }
+    }
+}
+
+impl Observer for Trajectory {
+    fn sample(&mut self, s: &Sample<'_>) {
+        self.points.push(Point::of(s));
     }
 }

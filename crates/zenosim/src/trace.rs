@@ -16,9 +16,10 @@
 //! reading the real part) cannot be traced: such a question marks the tape *poisoned*, and the
 //! trace is discarded (the caller falls back to evaluating the duals directly).
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 use std::fmt;
+use std::hash::{BuildHasherDefault, Hasher};
 use std::iter::{Product, Sum};
 use std::ops::{
     Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Rem, RemAssign, Sub, SubAssign,
@@ -141,10 +142,10 @@ pub(crate) enum Node {
 }
 
 /// The recording of one trace.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(crate) struct Tape {
     pub(crate) nodes: Vec<Node>,
-    seen: HashMap<Node, u32>,
+    seen: HashMap<Node, u32, BuildHasherDefault<NodeHasher>>,
     /// The entries a product with a structural zero dropped: `x · 0` is 0 only while `x` is
     /// finite, so a program must check them (and defer to the dual numbers if one is not).
     pub(crate) witnesses: Vec<u32>,
@@ -153,9 +154,62 @@ pub(crate) struct Tape {
     pub(crate) nonzero: Vec<u32>,
     /// Set when the traced code asked a question a traced number cannot answer.
     pub(crate) poisoned: bool,
+    /// The operations of the traced code so far, those folded or found already on the tape
+    /// included: what the trace has cost.
+    work: u64,
+    /// The most operations the trace may record; past it the trace is [`exhausted`].
+    budget: u64,
+    /// The current part of a [`Recording`] (from 1), and per entry the last part that listed
+    /// it among the `witnesses` and among `nonzero`: each part lists an entry once, however
+    /// often its code asks (a hyper-dual pass drops the same products in every pass).
+    part: u32,
+    listed: Vec<[u32; 2]>,
+}
+
+/// What a program checks of an entry.
+#[derive(Clone, Copy)]
+enum Check {
+    Finite = 0,
+    Nonzero = 1,
+}
+
+impl Default for Tape {
+    fn default() -> Self {
+        Tape::with_budget(u64::MAX)
+    }
 }
 
 impl Tape {
+    fn with_budget(budget: u64) -> Tape {
+        Tape {
+            nodes: Vec::new(),
+            seen: HashMap::default(),
+            witnesses: Vec::new(),
+            nonzero: Vec::new(),
+            poisoned: false,
+            work: 0,
+            budget,
+            part: 1,
+            listed: Vec::new(),
+        }
+    }
+
+    /// Lists entry `id` among those its part's program must check so.
+    fn check(&mut self, id: u32, check: Check) {
+        let i = id as usize;
+        if self.listed.len() <= i {
+            self.listed.resize(self.nodes.len().max(i + 1), [0, 0]);
+        }
+        if self.listed[i][check as usize] == self.part {
+            return;
+        }
+        self.listed[i][check as usize] = self.part;
+        match check {
+            Check::Finite => self.witnesses.push(id),
+            Check::Nonzero => self.nonzero.push(id),
+        }
+    }
+
     fn push(&mut self, node: Node) -> u32 {
         if let Some(&id) = self.seen.get(&node) {
             return id;
@@ -182,10 +236,142 @@ impl Tape {
             Term::Node(id) => id,
         }
     }
+
+    /// The part of the tape that `outputs` and the entries `checks` names depend on, as a tape
+    /// of its own (in the same order, renumbered), with `outputs` renumbered: what one program
+    /// of a [`Recording`] is made of. `scratch` is [`u32::MAX`] for every entry, and is left so.
+    pub(crate) fn extract(
+        &self,
+        outputs: &[Sym],
+        checks: &Checks,
+        scratch: &mut Vec<u32>,
+    ) -> (Tape, Vec<Sym>) {
+        scratch.resize(self.nodes.len(), u32::MAX);
+        let mut live: Vec<u32> = Vec::new();
+        let mut stack: Vec<u32> = outputs
+            .iter()
+            .filter_map(|out| match out.term {
+                Term::Node(id) => Some(id),
+                Term::Const(_) => None,
+            })
+            .chain(checks.finite.iter().copied())
+            .chain(checks.nonzero.iter().copied())
+            .collect();
+        while let Some(id) = stack.pop() {
+            if scratch[id as usize] != u32::MAX {
+                continue;
+            }
+            scratch[id as usize] = 0;
+            live.push(id);
+            match self.nodes[id as usize] {
+                Node::Input(_) | Node::Const(_) => {}
+                Node::Un(_, a) => stack.push(a),
+                Node::Bin(_, a, b) => stack.extend([a, b]),
+                Node::MulAdd(a, b, c) => stack.extend([a, b, c]),
+            }
+        }
+        live.sort_unstable();
+        for (new, &id) in live.iter().enumerate() {
+            scratch[id as usize] = new as u32;
+        }
+        let at = |id: u32| scratch[id as usize];
+        let nodes: Vec<Node> = live
+            .iter()
+            .map(|&id| match self.nodes[id as usize] {
+                node @ (Node::Input(_) | Node::Const(_)) => node,
+                Node::Un(op, a) => Node::Un(op, at(a)),
+                Node::Bin(op, a, b) => Node::Bin(op, at(a), at(b)),
+                Node::MulAdd(a, b, c) => Node::MulAdd(at(a), at(b), at(c)),
+            })
+            .collect();
+        let mut tape = Tape {
+            nodes,
+            ..Tape::default()
+        };
+        tape.seen.reserve(tape.nodes.len());
+        for (new, &node) in tape.nodes.iter().enumerate() {
+            tape.seen.insert(node, new as u32);
+        }
+        tape.witnesses = checks.finite.iter().map(|&id| at(id)).collect();
+        tape.nonzero = checks.nonzero.iter().map(|&id| at(id)).collect();
+        let outputs = outputs
+            .iter()
+            .map(|out| match out.term {
+                Term::Node(id) => Sym::node(at(id), out.tainted),
+                Term::Const(_) => *out,
+            })
+            .collect();
+        for &id in &live {
+            scratch[id as usize] = u32::MAX;
+        }
+        (tape, outputs)
+    }
+}
+
+/// The hash of a tape's entries: a multiply and a rotation per field (the tape hashes every
+/// operation a trace records, and `std`'s default hasher, built to resist chosen keys, cost a
+/// quarter of a model file's loading). The keys are operations of the model's own formulas,
+/// whose collisions could only slow its own loading, which the budget bounds.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct NodeHasher(u64);
+
+impl NodeHasher {
+    #[inline]
+    fn add(&mut self, x: u64) {
+        // An odd constant with its bits spread (the fractional digits of the golden ratio).
+        const K: u64 = 0x9e37_79b9_7f4a_7c15;
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(K);
+    }
+}
+
+impl Hasher for NodeHasher {
+    #[inline]
+    fn finish(&self) -> u64 {
+        // The table takes its bucket from the low bits and its tag from the high ones: fold
+        // the well-mixed high half into both.
+        self.0 ^ (self.0 >> 32)
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut word = [0u8; 8];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.add(u64::from_le_bytes(word));
+        }
+    }
+    #[inline]
+    fn write_u8(&mut self, x: u8) {
+        self.add(u64::from(x));
+    }
+    #[inline]
+    fn write_u32(&mut self, x: u32) {
+        self.add(u64::from(x));
+    }
+    #[inline]
+    fn write_i32(&mut self, x: i32) {
+        self.add(u64::from(x as u32));
+    }
+    #[inline]
+    fn write_u64(&mut self, x: u64) {
+        self.add(x);
+    }
+    #[inline]
+    fn write_isize(&mut self, x: isize) {
+        self.add(x as u64);
+    }
+    #[inline]
+    fn write_usize(&mut self, x: usize) {
+        self.add(x as u64);
+    }
 }
 
 thread_local! {
     static TAPE: RefCell<Option<Tape>> = const { RefCell::new(None) };
+    /// Set when the running trace needed more than its budget: every result since is
+    /// unusable, and the rest of the trace only folds constants (it costs next to nothing).
+    /// A flag of its own, not the tape's, because a model file asks it at every evaluation of
+    /// a formula over dual numbers, traced or not ([`crate::Compiled::trace_exhausted`]): a
+    /// plain read, where the tape takes a borrow.
+    static EXHAUSTED: Cell<bool> = const { Cell::new(false) };
 }
 
 /// Runs `f` on the current thread's tape; `None` when no trace is running.
@@ -196,6 +382,26 @@ fn with_tape<R>(f: impl FnOnce(&mut Tape) -> R) -> Option<R> {
 /// Whether a trace is running on this thread.
 pub(crate) fn active() -> bool {
     TAPE.with(|tape| tape.borrow().is_some())
+}
+
+/// Whether the running trace is past its budget.
+#[inline]
+pub(crate) fn exhausted() -> bool {
+    EXHAUSTED.with(Cell::get)
+}
+
+/// Counts one operation of the traced code against the budget: `false` once past it (the
+/// operation then gives NaN, and the trace is unusable).
+fn tick() -> bool {
+    with_tape(|tape| {
+        tape.work += 1;
+        if tape.work > tape.budget {
+            EXHAUSTED.with(|flag| flag.set(true));
+            tape.poisoned = true;
+        }
+        !exhausted()
+    })
+    .unwrap_or(true)
 }
 
 /// Marks the running trace as unusable.
@@ -209,28 +415,115 @@ struct Session;
 impl Drop for Session {
     fn drop(&mut self) {
         TAPE.with(|tape| tape.borrow_mut().take());
+        EXHAUSTED.with(|flag| flag.set(false));
     }
 }
 
 /// Traces `f` over `inputs` traced inputs: the tape and `f`'s outputs, or `None` when the trace
 /// is poisoned or another trace is already running on this thread.
+#[cfg(test)]
 pub(crate) fn trace(inputs: usize, f: &dyn Fn(&[Sym]) -> Vec<Sym>) -> Option<(Tape, Vec<Sym>)> {
-    if active() {
-        return None;
+    let recording = Recording::start(inputs, u64::MAX)?;
+    let (outputs, checks) = recording.part(|| f(recording.inputs()));
+    let tape = recording.finish();
+    checks.usable.then_some((tape, outputs))
+}
+
+/// What a program made of a part of a [`Recording`] must check, and whether it can be made.
+#[derive(Clone, Debug)]
+pub(crate) struct Checks {
+    /// Entries that must be finite (see [`Tape::witnesses`]).
+    pub(crate) finite: Vec<u32>,
+    /// Entries that must not be zero (see [`Tape::nonzero`]).
+    pub(crate) nonzero: Vec<u32>,
+    /// Whether the part's numbers are traced: neither poisoned nor past the budget.
+    pub(crate) usable: bool,
+}
+
+impl Checks {
+    /// The checks of a part computed from this one's numbers and `other`'s.
+    pub(crate) fn and(&self, other: &Checks) -> Checks {
+        let mut both = self.clone();
+        both.finite.extend_from_slice(&other.finite);
+        both.nonzero.extend_from_slice(&other.nonzero);
+        both.usable &= other.usable;
+        both
     }
-    TAPE.with(|tape| *tape.borrow_mut() = Some(Tape::default()));
-    let session = Session;
-    let xs: Vec<Sym> = (0..inputs)
-        .map(|k| {
-            let id = with_tape(|tape| tape.push(Node::Input(k as u32))).unwrap_or(0);
-            Sym::node(id, false)
+}
+
+/// One trace on the current thread's tape, shared by several parts: each is computed once, and
+/// the parts computed from it (the motion from `M` and the force) take its numbers, not a trace
+/// of their own. [`Recording::part`] tells what each part adds; [`Tape::extract`] makes its
+/// program.
+pub(crate) struct Recording {
+    inputs: Vec<Sym>,
+    _session: Session,
+}
+
+impl Recording {
+    /// Starts a recording over `inputs` traced inputs that may record `budget` operations;
+    /// `None` when a trace is already running on this thread.
+    pub(crate) fn start(inputs: usize, budget: u64) -> Option<Recording> {
+        if active() {
+            return None;
+        }
+        TAPE.with(|tape| *tape.borrow_mut() = Some(Tape::with_budget(budget)));
+        let session = Session;
+        let inputs = (0..inputs)
+            .map(|k| {
+                let id = with_tape(|tape| tape.push(Node::Input(k as u32))).unwrap_or(0);
+                Sym::node(id, false)
+            })
+            .collect();
+        Some(Recording {
+            inputs,
+            _session: session,
         })
-        .collect();
-    let outputs = f(&xs);
-    let tape = TAPE.with(|tape| tape.borrow_mut().take());
-    drop(session);
-    let tape = tape?;
-    (!tape.poisoned).then_some((tape, outputs))
+    }
+
+    /// The traced inputs.
+    pub(crate) fn inputs(&self) -> &[Sym] {
+        &self.inputs
+    }
+
+    /// Computes one part: its result, and the checks and verdict of what it recorded (not
+    /// those of the parts it took numbers from: see [`Checks::and`]).
+    pub(crate) fn part<R>(&self, f: impl FnOnce() -> R) -> (R, Checks) {
+        let (finite, nonzero) = with_tape(|tape| {
+            tape.poisoned = false;
+            tape.part += 1;
+            (tape.witnesses.len(), tape.nonzero.len())
+        })
+        .unwrap_or((0, 0));
+        let result = f();
+        let checks = with_tape(|tape| Checks {
+            finite: tape.witnesses[finite..].to_vec(),
+            nonzero: tape.nonzero[nonzero..].to_vec(),
+            usable: !tape.poisoned && !exhausted(),
+        })
+        .unwrap_or(Checks {
+            finite: Vec::new(),
+            nonzero: Vec::new(),
+            usable: false,
+        });
+        (result, checks)
+    }
+
+    /// The operations traced so far (see [`Tape::work`]).
+    pub(crate) fn work(&self) -> u64 {
+        with_tape(|tape| tape.work).unwrap_or(0)
+    }
+
+    /// Whether the recording needed more than its budget.
+    pub(crate) fn exhausted(&self) -> bool {
+        exhausted()
+    }
+
+    /// The tape, which ends the recording.
+    pub(crate) fn finish(self) -> Tape {
+        TAPE.with(|tape| tape.borrow_mut().take())
+            .unwrap_or_default()
+    }
 }
 
 /// A traced number: a constant, or an entry of the running tape.
@@ -276,7 +569,7 @@ impl Sym {
         }
     }
 
-    fn constant(self) -> Option<f64> {
+    pub(crate) fn constant(self) -> Option<f64> {
         match self.term {
             Term::Const(c) => Some(c),
             Term::Node(_) => None,
@@ -297,7 +590,7 @@ impl Sym {
         match self.term {
             Term::Const(_) => false,
             Term::Node(id) => {
-                with_tape(|tape| tape.nonzero.push(id));
+                with_tape(|tape| tape.check(id, Check::Nonzero));
                 true
             }
         }
@@ -317,6 +610,9 @@ impl Sym {
     }
 
     fn un(self, op: Un) -> Sym {
+        if !tick() {
+            return Sym::konst(f64::NAN);
+        }
         let sign_decides = matches!(op, Un::Recip | Un::Signum)
             || matches!(op, Un::Powi(n) if n < 0)
             || matches!(op, Un::Powf(e) if f64::from_bits(e) < 0.0);
@@ -343,6 +639,9 @@ impl Sym {
     }
 
     fn bin(op: Bin, a: Sym, b: Sym) -> Sym {
+        if !tick() {
+            return Sym::konst(f64::NAN);
+        }
         let signs_known = match op {
             Bin::Atan2 | Bin::Rem => a.sign_known() && b.sign_known(),
             Bin::Div | Bin::Powf => b.sign_known(),
@@ -371,7 +670,7 @@ impl Sym {
             Bin::Mul if zero(a) || zero(b) => {
                 let other = if zero(a) { b } else { a };
                 if let Term::Node(id) = other.term {
-                    with_tape(|tape| tape.witnesses.push(id));
+                    with_tape(|tape| tape.check(id, Check::Finite));
                 }
                 return Sym::konst(0.0).taint(true);
             }
@@ -612,6 +911,9 @@ impl DualNum for Sym {
         self * *factor
     }
     fn mul_add(&self, a: Self, b: Self) -> Self {
+        if !tick() {
+            return Sym::konst(f64::NAN);
+        }
         if let (Term::Const(x), Term::Const(y), Term::Const(z)) = (self.term, a.term, b.term) {
             return Sym::folded(x.mul_add(y, z), self.tainted || a.tainted || b.tainted);
         }

@@ -92,13 +92,19 @@ pub const DEFAULT_MAX_DEPTH: usize = 256;
 /// The default of [`Limits::max_length`].
 pub const DEFAULT_MAX_LENGTH: usize = 100_000;
 
+/// The default of [`Limits::max_operations`]: 10 million, 2.8 times what a 20-link pendulum
+/// chain written out in full needs (3.6
+/// million; the shipped models need at most a few thousand).
+pub const DEFAULT_MAX_OPERATIONS: usize = 10_000_000;
+
 /// Whether `name` belongs to the language itself (a function or a constant) and therefore
 /// cannot name a parameter or a coordinate: the parser never asks the scope about it.
 pub fn is_reserved(name: &str) -> bool {
     FUNCTION_NAMES.contains(&name) || CONSTANT_NAMES.contains(&name)
 }
 
-/// Bounds on what [`Expression::parse_with`] accepts, so that hostile or broken input fails fast.
+/// Bounds on what [`Expression::parse_with`] accepts, and on the work of differentiating a model
+/// file's formulas, so that hostile or broken input fails fast.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Limits {
     /// The deepest nesting accepted: parentheses, function calls, signs and operators waiting
@@ -107,6 +113,13 @@ pub struct Limits {
     pub max_depth: usize,
     /// The longest source accepted, in characters.
     pub max_length: usize,
+    /// The most operations that tracing a model file's derivatives may take (each operation
+    /// the automatic differentiation does on a traced number: see
+    /// `zenosim::Compiled::trace_bounded`). It grows linearly with the formulas' size. It
+    /// bounds the trace, not yet the programs made from it: where `M` is constant, each
+    /// constraint's programs hold the whole force, so many constraints on a large force still
+    /// cost time and memory beyond it (issue 25, open).
+    pub max_operations: usize,
 }
 
 impl Default for Limits {
@@ -114,6 +127,7 @@ impl Default for Limits {
         Self {
             max_depth: DEFAULT_MAX_DEPTH,
             max_length: DEFAULT_MAX_LENGTH,
+            max_operations: DEFAULT_MAX_OPERATIONS,
         }
     }
 }
@@ -286,6 +300,9 @@ mod tests {
     #[test]
     fn default_limits() {
         let limits = Limits::default();
-        assert_eq!((limits.max_depth, limits.max_length), (256, 100_000));
+        assert_eq!(
+            (limits.max_depth, limits.max_length, limits.max_operations),
+            (256, 100_000, 10_000_000)
+        );
     }
 }

@@ -109,10 +109,15 @@ impl Control {
     }
 }
 
-/// Steps below this magnitude (at time `t`) are a step-size underflow.
+/// Steps below this magnitude (at time `t`) are a step-size underflow: `16 ε max(|t|, scale)`,
+/// with `scale` the first step size the stepper was started with (the problem's own time
+/// scale, from its derivatives: [`hinit`]), and no less than the smallest normal number. It
+/// has no unit of time: a model whose motion takes 1e-25 s (a ball under g = 1e50) steps as
+/// finely as it needs, and a step that fails where it starts still gives up within a few
+/// dozen trials.
 #[inline]
-pub(super) fn underflow_threshold(t: f64) -> f64 {
-    16.0 * f64::EPSILON * t.abs().max(1.0)
+pub(super) fn underflow_threshold(t: f64, scale: f64) -> f64 {
+    (16.0 * f64::EPSILON * t.abs().max(scale)).max(f64::MIN_POSITIVE)
 }
 
 /// Why a trial step could not be used.

@@ -123,16 +123,29 @@ pub(super) fn correct_end<S: OdeSystem>(
     Ok(changed)
 }
 
-/// Weighted RMS norm `sqrt(mean((x_i / (atol + rtol |y_i|))^2))` (used by hinit).
+/// Weighted RMS norm `sqrt(mean((x_i / (atol + rtol |y_i|))^2))` (used by hinit). Where the
+/// sum of squares over- or underflows and the norm itself is a finite number (a derivative of
+/// 10 against an `atol` of 1e-300, for a component that starts at zero, is a ratio of 1e301,
+/// whose square is not), it is computed again scaled by its largest term.
 #[inline]
 pub(super) fn weighted_rms(x: &[f64], y: &[f64], rtol: f64, atol: f64) -> f64 {
+    let ratio = |(&xi, &yi): (&f64, &f64)| xi / (atol + rtol * yi.abs());
+    let sum: f64 = x.iter().zip(y).map(ratio).map(|r| r * r).sum();
+    let norm = (sum / x.len() as f64).sqrt();
+    if norm.is_nan() || (norm.is_finite() && norm >= f64::MIN_POSITIVE) {
+        return norm;
+    }
+    let largest = x.iter().zip(y).map(|p| ratio(p).abs()).fold(0.0, f64::max);
+    if largest == 0.0 || !largest.is_finite() {
+        return largest;
+    }
     let sum: f64 = x
         .iter()
         .zip(y)
-        .map(|(&xi, &yi)| {
-            let r = xi / (atol + rtol * yi.abs());
+        .map(|p| {
+            let r = ratio(p) / largest;
             r * r
         })
         .sum();
-    (sum / x.len() as f64).sqrt()
+    largest * (sum / x.len() as f64).sqrt()
 }

@@ -47,7 +47,9 @@
 //!
 //! The first step is the caller's hint or Hairer's `hinit` (II.4, "Starting
 //! step size"). A step is a *step-size underflow* when it is smaller than
-//! `16 * EPSILON * max(|t|, 1)` without landing on `t_stop`.
+//! `16 * EPSILON * max(|t|, h0)` without landing on `t_stop`, `h0` the first step size (of the
+//! last start or rewind): a floor relative to the time and to the problem's own time scale,
+//! never to a unit of time.
 
 #![warn(missing_docs)]
 
@@ -173,7 +175,7 @@ pub enum StepError<E> {
         #[source]
         source: E,
     },
-    /// The step size fell below `16 * EPSILON * max(|t|, 1)`.
+    /// The step size fell below `16 * EPSILON * max(|t|, h0)`, `h0` the first step size.
     #[error("step size underflow at t = {t} (h = {h})")]
     StepSizeUnderflow {
         /// Time of the state stepped from.

@@ -65,6 +65,9 @@ pub struct Stepper {
     pub(super) h_last: f64,
     /// Proposed magnitude of the next step.
     pub(super) h_next: f64,
+    /// The step size the stepper was last started or rewound with: the time scale of the
+    /// step-size underflow test ([`underflow_threshold`]).
+    pub(super) time_scale: f64,
     /// The error norm of the last accepted step (Hairer's `facold`), for the PI controller.
     pub(super) err_previous: f64,
     /// The size and error norm of the last step accepted by [`Stepper::step`] at the size it
@@ -116,6 +119,7 @@ impl Stepper {
             t_prev: 0.0,
             h_last: 0.0,
             h_next: 0.0,
+            time_scale: 1.0,
             err_previous: INITIAL_ERR_PREVIOUS,
             accepted: None,
             y: vec![0.0; n],
@@ -180,6 +184,7 @@ impl Stepper {
                 &mut self.scratch,
             ),
         };
+        self.time_scale = self.h_next;
         self.restart_here();
         self.started = true;
         Ok(())
@@ -202,6 +207,7 @@ impl Stepper {
         self.dy.copy_from_slice(&self.dy_prev);
         self.err_previous = INITIAL_ERR_PREVIOUS;
         self.h_next = h;
+        self.time_scale = h;
         self.restart_here();
     }
 
@@ -252,7 +258,7 @@ impl Stepper {
 
     /// Take one accepted step of size at most h_max that never goes past t_stop (lands exactly on t_stop when it would pass it).
     /// Rejected trials are retried internally. A rhs error or non-finite values during a trial count as a rejection (h *= 0.25);
-    /// the error is returned only when h underflows (h < 16*EPS*max(|t|,1)).
+    /// the error is returned only when h underflows (see the module documentation).
     ///
     /// The direction of integration is the sign of `t_stop - t()`; `t_stop`
     /// may be infinite, and `t_stop == t()` is a no-op. A step within 1% of the
@@ -292,7 +298,7 @@ impl Stepper {
         let mut last_failure = None;
         loop {
             let (h_abs, t_end, landing) = self.trial_span(h, t_stop, h_max);
-            if !landing && h_abs < underflow_threshold(self.t) {
+            if !landing && h_abs < underflow_threshold(self.t, self.time_scale) {
                 let t = self.t;
                 return Err(match last_failure {
                     Some(EvalFailure::Rhs(source)) => StepError::Rhs { t, source },
@@ -379,7 +385,7 @@ impl Stepper {
         }
         let proposal = self.h_next;
         let (h_abs, t_end, landing) = self.trial_span(proposal.min(h_max), t_stop, h_max);
-        if !landing && h_abs < underflow_threshold(self.t) {
+        if !landing && h_abs < underflow_threshold(self.t, self.time_scale) {
             // Left to `step`, which reports the underflow.
             return Ok(false);
         }

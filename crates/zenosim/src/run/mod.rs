@@ -106,6 +106,9 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     /// The next time on a uniform output grid.
     next_output: f64,
     wants_samples: bool,
+    /// Set when the observer asked to stop while a step's output grid was being written: the
+    /// rest of that step's samples are skipped, and the run stops before its next step.
+    interrupt_asked: bool,
     /// Whether free flight is a parabola ([`HybridLagrangian::parabolic_flight`]).
     parabolic: bool,
     /// Whether the last step is a free flight on a parabola (declared, and the acceleration the
@@ -146,6 +149,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             sim,
             mech: Mechanics::new(sim.model),
             wants_samples: observer.wants_samples(),
+            interrupt_asked: false,
             observer,
             stepper: Stepper::new(options.method, 2 * n, options.tolerances),
             n,
@@ -220,7 +224,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             return Ok(outcome);
         }
         while self.t < options.t_end {
-            if self.observer.interrupted() {
+            if self.interrupt_asked || self.observer.interrupted() {
                 // The state where it stops ends the trajectory (on a uniform output grid too).
                 let (t, y) = (self.t, self.y.clone());
                 self.advance_work(t)?;

@@ -119,7 +119,15 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         }
         self.dense()?;
         let mut y = vec![0.0; 2 * self.n];
+        let mut written = 0_u32;
         while self.next_output < t || (inclusive && self.next_output == t) {
+            // One step may hold millions of grid points (a body at rest, a fine `dt`): the
+            // observer is asked every few thousand whether to stop, as before every step.
+            written = written.wrapping_add(1);
+            if written.is_multiple_of(4096) && self.observer.interrupted() {
+                self.interrupt_asked = true;
+                return Ok(());
+            }
             let to = self.next_output;
             interpolate(&self.stepper, self.cubic, to, &mut y);
             project_onto(&self.mech, self.held(), to, self.n, &mut y)

@@ -3,8 +3,8 @@
 
 use zenosim::models::BouncingBall;
 use zenosim::{
-    EventKind, Execution, Mode, Outcome, Simulation, SimulationOptions, Trajectory, ZenoKind,
-    ZenoStrategy,
+    EventKind, Execution, Mode, Outcome, Simulation, SimulationOptions, Tolerances, Trajectory,
+    ZenoKind, ZenoStrategy,
 };
 
 const G: f64 = 9.81;
@@ -173,6 +173,34 @@ fn an_interrupted_run_ends_where_it_was_asked_keeping_what_it_computed() {
     }
 }
 
+#[test]
+fn an_interrupt_during_a_long_step_of_a_fine_grid_waited_for_the_step() {
+    // At rest on the floor after its Zeno point, the ball takes steps of seconds, each holding
+    // millions of points of a 1e-6 grid: the observer was asked only between steps, so Ctrl-C
+    // took seconds (and the writer kept writing). It is now asked every 4096 grid points.
+    let ball = BouncingBall::new(1.0, G, 0.5);
+    let options = SimulationOptions {
+        t_end: 10.0,
+        output: zenosim::OutputGrid::Uniform(1e-6),
+        max_steps: u64::MAX,
+        ..Default::default()
+    };
+    let mut observer = StopAfter {
+        after: 3_000_000,
+        kept: Trajectory::default(),
+    };
+    let run = Simulation::new(&ball, &[H0], &[0.0], options)
+        .unwrap()
+        .run(&mut observer);
+    assert_eq!(run.outcome, Outcome::Interrupted);
+    // Within 4096 samples of the request (and one more: the state where it stopped).
+    let kept = observer.kept.points.len();
+    assert!((3_000_000..=3_004_097).contains(&kept), "{kept} samples");
+    let last = observer.kept.points.last().unwrap();
+    assert_eq!(run.t_final, last.t);
+    assert!(run.t_final < 10.0);
+}
+
 /// Regression: the test that a constraint can act compared squares of norms, which overflow for
 /// a ball of mass 1e-156 (`|M⁻¹Aᵀ|² = ∞`) and underflow for one of 1e201, so both failed with
 /// "∂h/∂q = 0" at the first impact. The mass cancels out of the motion: every mass gives the
@@ -199,4 +227,44 @@ fn a_ball_of_any_mass_bounces_as_the_closed_form_says() {
             );
         }
     }
+}
+
+/// A ball under `g` run to 3 s with `atol`: its outcome, Zeno points and first impact time.
+fn scaled(g: f64, atol: f64) -> (BouncingBall, Execution) {
+    let ball = BouncingBall::new(1.0, g, 0.5);
+    let options = SimulationOptions {
+        t_end: 3.0,
+        tolerances: Tolerances { rtol: 1e-10, atol },
+        ..Default::default()
+    };
+    let run = Simulation::new(&ball, &[H0], &[0.0], options)
+        .unwrap()
+        .run(&mut ());
+    (ball, run)
+}
+
+#[test]
+fn the_step_size_floor_had_a_unit_of_time() {
+    // Under g = 1e50 the ball reaches the floor after t1 = 1.4e-25 s, far below 16 ε · 1 s,
+    // the smallest step the integrator used to allow at t < 1: the run failed at t = 0 with a
+    // "step size underflow" and advice to loosen the tolerances.
+    for g in [1e30, 1e50, 1e100] {
+        let (ball, run) = scaled(g, 1e-10);
+        assert_eq!(run.outcome, Outcome::Finished, "g = {g}");
+        assert_eq!(run.zeno.len(), 1, "g = {g}");
+        let tau_inf = ball.zeno_time(H0);
+        assert!(relative(run.zeno[0].t_zeno, tau_inf) < 1e-9, "g = {g}");
+        let first = run.impact_times(0)[0];
+        assert!(relative(first, ball.impact_time(H0, 1)) < 1e-9, "g = {g}");
+    }
+}
+
+#[test]
+fn the_first_step_guess_overflowed_with_a_tiny_atol() {
+    // The velocity starts at 0, so its tolerance is atol alone: with atol = 1e-300 the first
+    // step's guess squared g / atol ≈ 1e301 to ∞ and the run failed at t = 0 with h = 0.
+    let (ball, run) = scaled(G, 1e-300);
+    assert_eq!(run.outcome, Outcome::Finished);
+    assert_eq!(run.zeno.len(), 1);
+    assert!(relative(run.zeno[0].t_zeno, ball.zeno_time(H0)) < 1e-9);
 }
