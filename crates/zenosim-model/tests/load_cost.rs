@@ -36,7 +36,10 @@ fn the_lagrangian_is_traced_once_whatever_the_number_of_constraints() {
     // against the Lagrangian's hundreds of thousands.
     assert!(per_constraint < 1_000, "{per_constraint} per constraint");
     assert!(one > 500_000, "the Lagrangian traced in {one} operations");
-    assert_eq!(many, one + 63 * per_constraint, "{one} {two} {many}");
+    // 63 more constraints add their own cost (their programs, the same size or smaller),
+    // under 2 % of the Lagrangian's.
+    assert!(many <= one + 63 * per_constraint, "{one} {two} {many}");
+    assert!(many - one < one / 50, "{one} {two} {many}");
 }
 
 #[test]

@@ -793,15 +793,25 @@ impl Compiled {
                 ));
             }
         }
-        let exhausted = recording.exhausted();
-        let traced = recording.work();
+        let mut exhausted = recording.exhausted();
+        let mut traced = recording.work();
+        let budget = recording.budget();
         let tape = recording.finish();
         let mut scratch = Vec::new();
+        // Making the programs counts against the budget too, each entry of each program as a
+        // new entry of the trace: where `M` is constant every constraint's programs hold the
+        // whole force, so they can add up to far more than the trace itself.
         let mut program = |(outputs, checks): &(Vec<Sym>, Checks)| {
-            (checks.usable && !exhausted).then(|| {
-                let (part, outputs) = tape.extract(outputs, checks, &mut scratch);
-                Program::from_tape(&part, inputs, &outputs, None)
-            })
+            if exhausted || !checks.usable {
+                return None;
+            }
+            let (part, outputs) = tape.extract(outputs, checks, &mut scratch);
+            traced = traced.saturating_add(trace::NEW_ENTRY * part.nodes.len() as u64);
+            if traced > budget {
+                exhausted = true;
+                return None;
+            }
+            Some(Program::from_tape(&part, inputs, &outputs, None))
         };
         let constraint_outputs = |c: &ConstraintParts<N, Sym>| {
             let mut out = vec![c.h];
@@ -830,6 +840,14 @@ impl Compiled {
         let held = programs(&held);
         let held_acc = programs(&held_acc);
         let directions = programs(&directions);
+        if exhausted {
+            return Compiled {
+                exhausted,
+                traced,
+                constant_mass,
+                ..Compiled::untraced(N, count)
+            };
+        }
         Compiled {
             dimension: N,
             constant_mass,
