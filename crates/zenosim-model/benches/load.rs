@@ -40,6 +40,15 @@ fn load(c: &mut Criterion) {
         "wide 10000 factors, 64 constraints",
         &wide::wide(10_000, 64),
     );
+    // A review's attacks through the programs (a 1 MB file: 20 forces of 25 000 factors, 64
+    // constraints) and through new entries (8 constraints, each h a 4 000-factor product):
+    // refused.
+    bench(
+        c,
+        "forces 25000 factors, 64 constraints",
+        &wide::forces(25_000, 64),
+    );
+    bench(c, "8 products of 4000 factors", &wide::products(4_000, 8));
     // Within the limit.
     bench(
         c,

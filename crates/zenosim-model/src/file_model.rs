@@ -1,6 +1,8 @@
 //! A hybrid Lagrangian whose `L`, `h`, forces, dissipation and optional `R∞` are compiled
 //! formulas of the time, the coordinates and the velocities.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use zenosim::{Compiled, Constraint, HybridLagrangian, Scalar};
 
 use crate::expr::Expression;
@@ -35,6 +37,65 @@ pub struct FileModel {
     /// Whether the compiled free motion is constant ([`HybridLagrangian::parabolic_flight`]): a
     /// fact of the formulas, kept when the model is [`FileModel::interpreted`].
     pub(crate) parabolic: bool,
+    /// The formula whose evaluation took a trace past its budget, for the loader's message.
+    pub(crate) over_budget_in: Crossing,
+}
+
+/// One of a [`FileModel`]'s formulas.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Formula {
+    Lagrangian,
+    Dissipation,
+    /// Constraint `index`'s `h`.
+    Constraint(usize),
+    /// The force on coordinate `index`.
+    Force(usize),
+}
+
+impl Formula {
+    fn code(self) -> usize {
+        match self {
+            Formula::Lagrangian => 1,
+            Formula::Dissipation => 2,
+            Formula::Constraint(i) => 3 + 2 * i,
+            Formula::Force(i) => 4 + 2 * i,
+        }
+    }
+
+    fn of(code: usize) -> Option<Formula> {
+        Some(match code {
+            0 => return None,
+            1 => Formula::Lagrangian,
+            2 => Formula::Dissipation,
+            c if c % 2 == 1 => Formula::Constraint((c - 3) / 2),
+            c => Formula::Force((c - 4) / 2),
+        })
+    }
+}
+
+/// The first [`Formula`] whose evaluation found the trace past its budget; none yet at first.
+/// An atomic, not a cell, so that the model stays `Sync`; it is written once per refused file.
+#[derive(Debug, Default)]
+pub(crate) struct Crossing(AtomicUsize);
+
+impl Crossing {
+    /// Notes `formula`, unless an earlier one was noted.
+    fn note(&self, formula: Formula) {
+        let _ = self
+            .0
+            .compare_exchange(0, formula.code(), Ordering::Relaxed, Ordering::Relaxed);
+    }
+
+    /// The formula noted, if any.
+    pub(crate) fn get(&self) -> Option<Formula> {
+        Formula::of(self.0.load(Ordering::Relaxed))
+    }
+}
+
+impl Clone for Crossing {
+    fn clone(&self) -> Self {
+        Crossing(AtomicUsize::new(self.0.load(Ordering::Relaxed)))
+    }
 }
 
 /// A `[[constraint]]` of a [`FileModel`]: the constraint, its `h`, and its `zeno_reset`
@@ -62,6 +123,7 @@ impl FileModel {
             autonomous: true,
             compiled: None,
             parabolic: false,
+            over_budget_in: Crossing::default(),
         };
         for (constraint, h, reset) in constraints {
             model.constraints.push(constraint);
@@ -139,10 +201,24 @@ impl FileModel {
 /// Whether a trace of the derivatives is past its budget ([`Compiled::trace_bounded`]): what
 /// it still traces is discarded, so the formulas are not evaluated (a model at the limit is
 /// refused within the time the budget allows, not after every remaining evaluation). Over
-/// `f64` nothing is traced, and nothing is asked.
+/// `f64` nothing is traced, and nothing is asked: `f64` is the one [`Scalar`] with no
+/// derivative and its size (the traced real, which zenosim keeps private, has neither a
+/// derivative nor that size), so the question is settled when the code is compiled.
 #[inline(always)]
 fn over_budget<D: Scalar>() -> bool {
-    D::NDERIV > 0 && Compiled::trace_exhausted()
+    (D::NDERIV > 0 || size_of::<D>() != size_of::<f64>()) && Compiled::trace_exhausted()
+}
+
+impl FileModel {
+    /// `value`, the result of evaluating `formula`; if that took the trace past its budget,
+    /// `formula` is noted as where it did ([`FileModel::over_budget_in`]).
+    #[inline(always)]
+    fn noting<D: Scalar, R>(&self, formula: Formula, value: R) -> R {
+        if over_budget::<D>() {
+            self.over_budget_in.note(formula);
+        }
+        value
+    }
 }
 
 impl HybridLagrangian for FileModel {
@@ -161,7 +237,7 @@ impl HybridLagrangian for FileModel {
         if over_budget::<D>() {
             return D::from(f64::NAN);
         }
-        self.lagrangian.eval_at(q, q_dot, t)
+        self.noting::<D, _>(Formula::Lagrangian, self.lagrangian.eval_at(q, q_dot, t))
     }
 
     fn constraints(&self) -> &[Constraint] {
@@ -180,7 +256,7 @@ impl HybridLagrangian for FileModel {
         if over_budget::<D>() {
             return D::from(f64::NAN);
         }
-        self.h[index].eval_at(q, &[], t)
+        self.noting::<D, _>(Formula::Constraint(index), self.h[index].eval_at(q, &[], t))
     }
 
     /// Adds each formula of `[forces]` to its coordinate's entry.
@@ -190,7 +266,8 @@ impl HybridLagrangian for FileModel {
             return;
         }
         for (slot, formula) in &self.forces {
-            force[*slot] += formula.eval_at(q, q_dot, t);
+            force[*slot] +=
+                self.noting::<D, _>(Formula::Force(*slot), formula.eval_at(q, q_dot, t));
         }
     }
 
@@ -200,7 +277,9 @@ impl HybridLagrangian for FileModel {
             return D::from(f64::NAN);
         }
         match &self.dissipation {
-            Some(formula) => formula.eval_at(q, q_dot, t),
+            Some(formula) => {
+                self.noting::<D, _>(Formula::Dissipation, formula.eval_at(q, q_dot, t))
+            }
             None => D::from(0.0),
         }
     }

@@ -13,7 +13,7 @@ use zenosim::{
 
 use crate::error::{did_you_mean, Lines, Location, ModelError};
 use crate::expr::{is_reserved, ExprError, Expression, Limits, Scope};
-use crate::file_model::FileModel;
+use crate::file_model::{FileModel, Formula as ModelFormula};
 
 /// The keys a model file may have at its top level.
 const TOP_KEYS: [&str; 10] = [
@@ -538,15 +538,31 @@ impl<'s> Cx<'s> {
         let compiled = Compiled::trace_bounded(&model, self.limits.max_operations as u64);
         if compiled.exhausted() {
             let limit = self.limits.max_operations;
+            // Named where the limit was crossed; when that was after the formulas (making the
+            // programs), the longest formula is named, as the likeliest to shorten.
+            let (place, reached) = match model.over_budget_in.get() {
+                Some(formula) => (formula_place(root, &model, formula), "it was reached in"),
+                None => {
+                    let longest = std::iter::once(ModelFormula::Lagrangian)
+                        .chain((0..model.h.len()).map(ModelFormula::Constraint))
+                        .chain(model.forces.iter().map(|&(i, _)| ModelFormula::Force(i)))
+                        .chain(model.dissipation.iter().map(|_| ModelFormula::Dissipation))
+                        .map(|formula| formula_place(root, &model, formula))
+                        .max_by_key(|place| place.span.len())
+                        .expect("the Lagrangian is there");
+                    (longest, "its longest formula is")
+                }
+            };
+            let (at, key, what) = (place.span.start, place.key, place.what);
             return Err(self.at(
-                lagrangian_item.span().start,
-                "lagrangian",
+                at,
+                &key,
                 format!(
                     "differentiating the model's formulas takes more than the limit of {limit} \
-                     operations"
+                     operations ({reached} {what})"
                 ),
                 "the shipped models need a few thousand, a 20-link pendulum chain written out \
-                 in full 3.6 million: shorten the formulas, or, if the model is right as it is, \
+                 in full 3.7 million: shorten the formulas, or, if the model is right as it is, \
                  raise the limit: `zenosim run --max-derivative-operations N` (Limits in the \
                  library)",
             ));
@@ -1661,6 +1677,54 @@ impl<'s> Cx<'s> {
             }
         }
         Ok(())
+    }
+}
+
+/// Where one of a model's formulas is in its file: its text's span, its key, and what it is.
+struct Place {
+    span: Range<usize>,
+    key: String,
+    what: String,
+}
+
+/// The [`Place`] of `formula` in the file `root` that `model` was read from.
+fn formula_place(root: &Table<'_>, model: &FileModel, formula: ModelFormula) -> Place {
+    let span = |item: Option<&Item<'_>>| item.map_or(0..0, Spanned::span);
+    match formula {
+        ModelFormula::Lagrangian => Place {
+            span: span(root.get("lagrangian")),
+            key: "lagrangian".to_string(),
+            what: "the Lagrangian".to_string(),
+        },
+        ModelFormula::Constraint(i) => {
+            let h = root
+                .get("constraint")
+                .and_then(|array| match array.get_ref() {
+                    DeValue::Array(array) => array.get(i)?.get_ref().as_table()?.get("h"),
+                    _ => None,
+                });
+            Place {
+                span: span(h),
+                key: format!("constraint[{}].h", i + 1),
+                what: format!("constraint `{}`'s h", model.constraints[i].name),
+            }
+        }
+        ModelFormula::Force(i) => {
+            let name = &model.coordinates[i];
+            let item = root
+                .get("forces")
+                .and_then(|forces| forces.get_ref().as_table()?.get(name.as_str()));
+            Place {
+                span: span(item),
+                key: join("forces", name),
+                what: format!("the force on `{name}`"),
+            }
+        }
+        ModelFormula::Dissipation => Place {
+            span: span(root.get("dissipation")),
+            key: "dissipation".to_string(),
+            what: "the dissipation function".to_string(),
+        },
     }
 }
 

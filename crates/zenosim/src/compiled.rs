@@ -690,8 +690,12 @@ impl Compiled {
         Self::trace_bounded(model, u64::MAX)
     }
 
-    /// [`Compiled::trace`], tracing at most `max_operations` operations (those folded or found
-    /// again included): past that the trace stops, and [`Compiled::exhausted`] says so. A model file's loading bounds its cost so
+    /// [`Compiled::trace`], tracing at most `max_operations` operations: past that the trace
+    /// stops, and [`Compiled::exhausted`] says so. An operation folded or found again on the
+    /// trace counts 1, one that records a new entry 8 (its place in a large table is a cache
+    /// miss), and so does each entry of each program made from the
+    /// trace (where `M` is constant every constraint's programs hold the whole force), so that
+    /// the time and memory of the whole are bounded. A model file's loading bounds its cost so
     /// (`Limits::max_operations` in zenosim-model).
     ///
     /// The operations a model needs grow linearly with the size of its formulas: one trace of
@@ -785,15 +789,25 @@ impl Compiled {
                 ));
             }
         }
-        let exhausted = recording.exhausted();
-        let traced = recording.work();
+        let mut exhausted = recording.exhausted();
+        let mut traced = recording.work();
+        let budget = recording.budget();
         let tape = recording.finish();
         let mut scratch = Vec::new();
+        // Making the programs counts against the budget too, each entry of each program as a
+        // new entry of the trace: where `M` is constant every constraint's programs hold the
+        // whole force, so they can add up to far more than the trace itself.
         let mut program = |(outputs, checks): &(Vec<Sym>, Checks)| {
-            (checks.usable && !exhausted).then(|| {
-                let (part, outputs) = tape.extract(outputs, checks, &mut scratch);
-                Program::from_tape(&part, inputs, &outputs, None)
-            })
+            if exhausted || !checks.usable {
+                return None;
+            }
+            let (part, outputs) = tape.extract(outputs, checks, &mut scratch);
+            traced = traced.saturating_add(trace::NEW_ENTRY * part.nodes.len() as u64);
+            if traced > budget {
+                exhausted = true;
+                return None;
+            }
+            Some(Program::from_tape(&part, inputs, &outputs, None))
         };
         let constraint_outputs = |c: &ConstraintParts<N, Sym>| {
             let mut out = vec![c.h];
@@ -822,6 +836,14 @@ impl Compiled {
         let held = programs(&held);
         let held_acc = programs(&held_acc);
         let directions = programs(&directions);
+        if exhausted {
+            return Compiled {
+                exhausted,
+                traced,
+                constant_mass,
+                ..Compiled::untraced(N, count)
+            };
+        }
         Compiled {
             dimension: N,
             constant_mass,
@@ -912,8 +934,8 @@ impl Compiled {
     }
 
     /// The operations of the traced code (each operation on a traced number, those folded
-    /// into constants or found already recorded included): what [`Compiled::trace_bounded`]
-    /// bounds.
+    /// into constants or found already recorded included), new entries and program entries
+    /// counted 8 times: what [`Compiled::trace_bounded`] bounds.
     pub fn operations_traced(&self) -> u64 {
         self.traced
     }

@@ -141,6 +141,9 @@ pub(crate) enum Node {
     MulAdd(u32, u32, u32),
 }
 
+/// What recording a new entry counts against a trace's budget, in operations.
+pub(crate) const NEW_ENTRY: u64 = 8;
+
 /// The recording of one trace.
 #[derive(Debug)]
 pub(crate) struct Tape {
@@ -213,6 +216,13 @@ impl Tape {
     fn push(&mut self, node: Node) -> u32 {
         if let Some(&id) = self.seen.get(&node) {
             return id;
+        }
+        // A new entry costs about ten times an operation found again (its place in a large
+        // table is a cache miss): it counts as NEW_ENTRY operations against the budget.
+        self.work = self.work.saturating_add(NEW_ENTRY - 1);
+        if self.work > self.budget {
+            EXHAUSTED.with(|flag| flag.set(true));
+            self.poisoned = true;
         }
         let id = u32::try_from(self.nodes.len()).unwrap_or(u32::MAX);
         if id == u32::MAX {
@@ -512,6 +522,11 @@ impl Recording {
     /// The operations traced so far (see [`Tape::work`]).
     pub(crate) fn work(&self) -> u64 {
         with_tape(|tape| tape.work).unwrap_or(0)
+    }
+
+    /// The budget it was started with.
+    pub(crate) fn budget(&self) -> u64 {
+        with_tape(|tape| tape.budget).unwrap_or(0)
     }
 
     /// Whether the recording needed more than its budget.

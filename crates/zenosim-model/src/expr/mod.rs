@@ -92,9 +92,9 @@ pub const DEFAULT_MAX_DEPTH: usize = 256;
 /// The default of [`Limits::max_length`].
 pub const DEFAULT_MAX_LENGTH: usize = 100_000;
 
-/// The default of [`Limits::max_operations`]: 10 million, 2.8 times what a 20-link pendulum
-/// chain written out in full needs (3.6
-/// million; the shipped models need at most a few thousand).
+/// The default of [`Limits::max_operations`]: 10 million, 2.7 times what a 20-link pendulum
+/// chain written out in full needs (3.7 million; the shipped models need at most a few
+/// thousand).
 pub const DEFAULT_MAX_OPERATIONS: usize = 10_000_000;
 
 /// Whether `name` belongs to the language itself (a function or a constant) and therefore
@@ -115,10 +115,9 @@ pub struct Limits {
     pub max_length: usize,
     /// The most operations that tracing a model file's derivatives may take (each operation
     /// the automatic differentiation does on a traced number: see
-    /// `zenosim::Compiled::trace_bounded`). It grows linearly with the formulas' size. It
-    /// bounds the trace, not yet the programs made from it: where `M` is constant, each
-    /// constraint's programs hold the whole force, so many constraints on a large force still
-    /// cost time and memory beyond it (issue 25, open).
+    /// `zenosim::Compiled::trace_bounded`), an entry new to the trace and each entry of the
+    /// programs made from it counting as 8. It grows linearly with the formulas' size, and
+    /// bounds the time and memory that loading a model takes.
     pub max_operations: usize,
 }
 

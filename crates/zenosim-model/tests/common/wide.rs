@@ -86,3 +86,56 @@ pub fn pendulum_chain(links: usize) -> String {
     }
     file
 }
+
+/// The kinetic energy `½ Σ q̇ᵢ²` of the wide models' 20 coordinates, and their list.
+fn head(name: &str) -> String {
+    let q = coordinates();
+    let squares: Vec<String> = q.iter().map(|c| format!("{c}_dot^2")).collect();
+    let list: Vec<String> = q.iter().map(|c| format!("\"{c}\"")).collect();
+    format!(
+        "name = \"{name}\"\ncoordinates = [{}]\nlagrangian = \"0.5*({})\"\n",
+        list.join(", "),
+        squares.join("+")
+    )
+}
+
+/// The initial state of the wide models: every coordinate at 0.5, at rest.
+fn at_half() -> String {
+    let mut file = String::from("[initial]\n");
+    for c in coordinates() {
+        file += &format!("{c} = 0.5\n");
+    }
+    file
+}
+
+/// A review's attack on the limit through the programs made from the trace: a constant `M`,
+/// on each of the 20 coordinates a force `q·q·…` of `factors` factors, and `constraints`
+/// constraints `qⱼ + 1 ≥ 0` (each constraint's programs hold the whole force).
+pub fn forces(factors: usize, constraints: usize) -> String {
+    let mut file = head("forces");
+    for j in 0..constraints {
+        let q = &coordinates()[j % 20];
+        file += &format!("[[constraint]]\nname = \"c{j}\"\nh = \"{q} + 1\"\nrestitution = 0.5\n");
+    }
+    file += "[forces]\n";
+    for q in coordinates() {
+        file += &format!("{q} = \"{}\"\n", vec![q.as_str(); factors].join("*"));
+    }
+    file + &at_half()
+}
+
+/// A review's attack on the limit through new entries: a constant `M`, and `constraints`
+/// constraints, each `h` a product of `factors` coordinates (shifted by one per constraint,
+/// so that nothing is shared) plus 1.
+pub fn products(factors: usize, constraints: usize) -> String {
+    let q = coordinates();
+    let mut file = head("products");
+    for j in 0..constraints {
+        let product: Vec<&str> = (0..factors).map(|i| q[(i + j) % 20].as_str()).collect();
+        file += &format!(
+            "[[constraint]]\nname = \"c{j}\"\nh = \"{} + 1\"\nrestitution = 0.5\n",
+            product.join("*")
+        );
+    }
+    file + &at_half()
+}
