@@ -21,8 +21,8 @@ use std::time::{Duration, Instant};
 /// The mutations per target.
 const MUTATIONS: usize = 300;
 
-/// How long one input may take before it counts as a hang (generous: the fuzzer's own limit,
-/// `-timeout=1`, is for an optimised build on a quiet machine).
+/// How long one input may take before it counts as a hang (generous: the fuzzers' own limits,
+/// `-timeout=10` and `-timeout=5`, are for an optimised build on a quiet machine).
 const HANG: Duration = Duration::from_secs(30);
 
 /// The repository's root.
