@@ -37,9 +37,16 @@ pub struct Crossing {
     pub t_violating: f64,
 }
 
-/// The time resolution of `f64` at `t`: intervals shorter than this cannot be told apart.
-pub(crate) fn time_resolution(t: f64) -> f64 {
-    64.0 * f64::EPSILON * t.abs().max(1.0)
+/// The time resolution at `t` of a motion whose own time scale is `scale`: intervals shorter
+/// than `64 ε max(|t|, scale)` are not told apart, and none shorter than the smallest normal
+/// number. Away from `t = 0` it is what `f64` resolves at `t`; near it, a fraction of the
+/// motion's own time scale (a step's width on its dense output, the run's first step for the
+/// run's decisions), never of a unit of time: under `g = 1e50` a ball's flights take 1e-25 s,
+/// and are resolved as finely as under `g = 9.81`. The floor keeps every loop that halves an
+/// interval down to it finite where `scale` is below the normal numbers.
+#[inline]
+pub(crate) fn time_resolution(t: f64, scale: f64) -> f64 {
+    (64.0 * f64::EPSILON * t.abs().max(scale)).max(f64::MIN_POSITIVE)
 }
 
 /// The first crossing of `g` from `> 0` to `≤ 0` in `(t0, t1]`: zenosim's event location on
@@ -82,6 +89,7 @@ pub(crate) fn first_crossing_or_touch(
     let mut search = Search {
         budget: REFINE_BUDGET,
         touch: None,
+        scale: t1 - t0,
     };
     for k in 1..=n {
         let t = if k == n {
@@ -105,14 +113,21 @@ pub(crate) fn first_crossing_or_touch(
     (None, search.touch)
 }
 
-/// What a search of one step carries: the evaluations of `g` it may still spend refining, and
-/// the closest approach to 0 of a dip without a crossing.
+/// What a search of one step carries: the evaluations of `g` it may still spend refining, the
+/// closest approach to 0 of a dip without a crossing, and the step's width: the time scale of
+/// its resolution ([`time_resolution`]).
 struct Search {
     budget: usize,
     touch: Option<(f64, f64)>,
+    scale: f64,
 }
 
 impl Search {
+    /// The time resolution at `t` in this step.
+    fn resolution(&self, t: f64) -> f64 {
+        time_resolution(t, self.scale)
+    }
+
     /// A dip of `g` to `value` at `t`, not below 0, between samples of size up to `size`.
     fn dipped(&mut self, t: f64, value: f64, size: f64) {
         if value <= 1e-6 * size && self.touch.is_none_or(|(_, lowest)| value < lowest) {
@@ -142,7 +157,7 @@ fn between(
         return None;
     };
     if da < 0.0 && db > 0.0 && ga.0 > 0.0 {
-        match dip(a, b, g) {
+        match dip(a, b, g, search.scale) {
             Ok(crossing) => return Some(crossing),
             Err((t, value)) => search.dipped(t, value, ga.0.max(gb.0)),
         }
@@ -161,7 +176,7 @@ fn between(
     let rise = da * width;
     let leaving = rise >= 1e-3 * scale && rise >= 1e3 * ga.0.abs();
     let on_surface = ga.0 <= 1e-9 * scale && !leaving;
-    if on_surface || search.budget == 0 || width <= time_resolution(b) {
+    if on_surface || search.budget == 0 || width <= search.resolution(b) {
         return None;
     }
     search.budget -= 1;
@@ -171,7 +186,7 @@ fn between(
         return Some(first_in(a, ga, m, gm, g, search));
     }
     let fit = Fit::new(ga.0, gb.0, da * width, db * width, gm.0);
-    if fit.clear_up_to(1.0, time_resolution(b) / width) {
+    if fit.clear_up_to(1.0, search.resolution(b) / width) {
         return None;
     }
     between(a, ga, m, gm, g, search).or_else(|| between(m, gm, b, gb, g, search))
@@ -201,7 +216,7 @@ fn first_in(
     };
     // As in `between`: near a start on the surface the guard is rounding noise.
     let on_surface = ga.0 <= 1e-9 * (ga.0 - gb.0 + width * db.abs());
-    if on_surface || search.budget == 0 || width <= time_resolution(b) {
+    if on_surface || search.budget == 0 || width <= search.resolution(b) {
         return bracket(a, ga, b, gb, g);
     }
     search.budget -= 1;
@@ -211,7 +226,7 @@ fn first_in(
         return first_in(a, ga, m, gm, g, search);
     }
     let fit = Fit::new(ga.0, gb.0, da * width, db * width, gm.0);
-    if fit.clear_up_to(0.5, time_resolution(b) / width) {
+    if fit.clear_up_to(0.5, search.resolution(b) / width) {
         // Where the cubic turns in the second half, so may the guard: search it likewise.
         return if fit.monotone_from(0.5) {
             bracket(m, gm, b, gb, g)
@@ -374,16 +389,18 @@ fn cubic_minimum(p0: f64, p1: f64, m0: f64, m1: f64) -> Option<f64> {
         .find(|&s| s > 0.0 && s < 1.0 && 6.0 * alpha * s + 2.0 * beta > 0.0)
 }
 
-/// Locates the minimum of `g` between `a` (`ġ < 0`) and `b` (`ġ > 0`) and brackets a crossing
-/// before it if the minimum is `≤ 0`; else the minimum found, `(t, g(t))`.
+/// Locates the minimum of `g` between `a` (`ġ < 0`) and `b` (`ġ > 0`), to the time resolution
+/// on the time scale `scale`, and brackets a crossing before it if the minimum is `≤ 0`; else
+/// the minimum found, `(t, g(t))`.
 fn dip(
     a: f64,
     b: f64,
     g: &mut impl FnMut(f64) -> (f64, Option<f64>),
+    scale: f64,
 ) -> Result<Crossing, (f64, f64)> {
     let (mut lo, mut hi) = (a, b);
     for _ in 0..200 {
-        if hi - lo <= time_resolution(hi) {
+        if hi - lo <= time_resolution(hi, scale) {
             break;
         }
         let mid = 0.5 * (lo + hi);
@@ -616,7 +633,7 @@ mod tests {
             g(c.t_admissible).0 > 0.0 && g(c.t_violating).0 <= 0.0,
             "{c:?}"
         );
-        assert!(c.t_violating - c.t_admissible <= time_resolution(1.0));
+        assert!(c.t_violating - c.t_admissible <= time_resolution(1.0, 1.0));
         // The first root, 0.0131 by a scan: g is positive on [0, t] before it.
         assert!((c.t_admissible - 0.0131).abs() < 1e-3, "{c:?}");
         assert!((0..1000).all(|k| g(c.t_admissible * f64::from(k) / 1000.0).0 > 0.0));

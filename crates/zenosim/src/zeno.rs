@@ -7,7 +7,6 @@
 //! - from the measured flight times (REFERENCE §2): their ratio `r` tends to `e` for a genuinely
 //!   Zeno execution, and is reported with each Zeno point as a diagnostic.
 
-use crate::events::time_resolution;
 use crate::execution::{ActiveSet, ZenoKind};
 
 /// Flights over which the ratio is measured: a geometric mean over several flights divides the
@@ -174,10 +173,10 @@ impl Prediction {
         })
     }
 
-    /// Chattering when the next interval is below what `f64` time resolves at `t` (or `e = 0`),
-    /// genuine otherwise.
-    pub fn kind(&self, e: f64, t: f64) -> ZenoKind {
-        if e > 0.0 && self.next_flight > time_resolution(t) {
+    /// Chattering when the next interval is not longer than `resolution`, the run's time
+    /// resolution where it starts ([`crate::events::time_resolution`]), or `e = 0`; genuine otherwise.
+    pub fn kind(&self, e: f64, resolution: f64) -> ZenoKind {
+        if e > 0.0 && self.next_flight > resolution {
             ZenoKind::Genuine
         } else {
             ZenoKind::Chattering
@@ -188,6 +187,7 @@ impl Prediction {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::events::time_resolution;
 
     #[test]
     fn the_prediction_is_exact_for_a_flat_floor() {
@@ -196,7 +196,7 @@ mod tests {
         let p = Prediction::new(2.0, -9.81, 0.5, (0.0, 0.0)).unwrap();
         assert!((p.next_flight - 4.0 / 9.81).abs() < 1e-15);
         assert!((p.remaining - 2.0 * 4.0 / 9.81).abs() < 1e-15);
-        assert_eq!(p.kind(0.5, 1.0), ZenoKind::Genuine);
+        assert_eq!(p.kind(0.5, time_resolution(1.0, 1.0)), ZenoKind::Genuine);
     }
 
     #[test]
@@ -221,7 +221,7 @@ mod tests {
     fn a_plastic_impact_is_chattering() {
         let p = Prediction::new(0.0, -9.81, 0.0, (0.0, 0.0)).unwrap();
         assert_eq!(p.remaining, 0.0);
-        assert_eq!(p.kind(0.0, 1.0), ZenoKind::Chattering);
+        assert_eq!(p.kind(0.0, time_resolution(1.0, 1.0)), ZenoKind::Chattering);
     }
 
     #[test]

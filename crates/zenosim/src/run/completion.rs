@@ -8,7 +8,6 @@ use super::{holding, Next, Runner, AUTO_ROUND_OFF_ULPS, OFF_ROUND_OFF_ULPS, STUC
 use crate::contact::{self};
 use crate::derivatives::guard_along;
 use crate::error::Error;
-use crate::events::time_resolution;
 use crate::execution::{ActiveSet, EventKind, Mode, Outcome, ZenoKind, ZenoPoint};
 use crate::mechanics::{guard_scale, Normal};
 use crate::model::HybridLagrangian;
@@ -20,7 +19,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     /// Whether the rest of the Zeno sequence after the impact that left `y` is below what the
     /// run resolves, with `ulps` the rounding margin of the guard (see [`Self::round_off_floor`]).
     ///
-    /// Resolved means the next flight is shorter than `f64` time resolves at `t`, or either:
+    /// Resolved means the next flight is not longer than the run's time resolution at `t`
+    /// ([`Runner::time_resolution`]), or either:
     /// - the predicted remaining time `T_rem` is shorter than the integrator's time resolution
     ///   `1/‖ẋ‖` (in its own weighted error norm): the execution cannot move by more than the
     ///   tolerance before `τ∞`, so switching now is as accurate as the integration; or
@@ -36,7 +36,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         normal: &Normal,
         ulps: f64,
     ) -> Result<bool, Error> {
-        if p.next_flight <= time_resolution(t) {
+        if p.next_flight <= self.time_resolution(t) {
             return Ok(true);
         }
         let n = self.n;
@@ -82,13 +82,13 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         if e > 0.0 && self.sequence.ratio().is_some_and(|r| r > 0.0) {
             ZenoKind::Genuine
         } else {
-            p.kind(e, t)
+            p.kind(e, self.time_resolution(t))
         }
     }
 
     /// Events that do not advance time: after [`STUCK_EVENTS`] in a row the contact is chattering.
     pub(super) fn no_progress(&mut self, t: f64) -> bool {
-        if t - self.last_event_t <= time_resolution(t) {
+        if t - self.last_event_t <= self.time_resolution(t) {
             self.stuck += 1;
         } else {
             self.stuck = 0;
@@ -279,7 +279,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             ZenoStrategy::Auto => AUTO_ROUND_OFF_ULPS,
             _ => OFF_ROUND_OFF_ULPS,
         };
-        let resolved = p.next_flight <= time_resolution(t)
+        let resolved = p.next_flight <= self.time_resolution(t)
             || self.below_round_off(accumulating, t, y, p.next_flight, ulps)
             || (self.sim.options.zeno == ZenoStrategy::Auto
                 && p.remaining * self.resolution_rate(t, y)? <= 1.0);
@@ -385,7 +385,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let remaining = prediction.map_or(0.0, |p| p.remaining);
         let ratio = self.accumulation.ratio();
         let kind = match (prediction, ratio) {
-            (Some(p), Some(r)) if r > 0.0 && p.next_flight > time_resolution(t) => {
+            (Some(p), Some(r)) if r > 0.0 && p.next_flight > self.time_resolution(t) => {
                 ZenoKind::Genuine
             }
             _ => ZenoKind::Chattering,

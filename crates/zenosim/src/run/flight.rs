@@ -5,7 +5,7 @@ use super::equations::project_onto;
 use super::{interpolate, Next, Runner};
 use crate::derivatives::guard_along;
 use crate::error::Error;
-use crate::events::{first_crossing_or_touch, time_resolution};
+use crate::events::first_crossing_or_touch;
 use crate::execution::ActiveSet;
 use crate::integrator::Tolerances;
 use crate::mechanics::{guard_scale, Normal};
@@ -99,7 +99,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             let e = self.sim.model.constraints()[index].restitution;
             let round_off = (normal.a_q_dot_round_off, normal.h_ddot_round_off);
             let hint = match Prediction::new(normal.a_q_dot, normal.h_ddot_free, e, round_off) {
-                Some(p) if p.next_flight > time_resolution(t_event) => {
+                Some(p) if p.next_flight > self.time_resolution(t_event) => {
                     self.flight_bound = 1.5 * p.next_flight;
                     hint.min(self.flight_bound)
                 }

@@ -118,7 +118,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             return Ok(Some(None));
         }
         let curvature = 4.0 * (m0 - 2.0 * m_mid + m1).abs() / (h * h);
-        let floor = 1e3 * crate::events::time_resolution(t1);
+        let floor = 1e3 * self.time_resolution(t1);
         let bound = if curvature > 0.0 {
             (m1.abs() / curvature).sqrt().max(floor)
         } else {

@@ -96,6 +96,10 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     accumulation: Accumulation,
     last_event_t: f64,
     stuck: usize,
+    /// The run's own time scale: its first step, from the motion at the start (the integrator's
+    /// `hinit`). Near `t = 0` the run's time resolution is a fraction of it
+    /// ([`Runner::time_resolution`]).
+    time_scale: f64,
     /// The largest next step, from the predicted flight after an impact.
     flight_bound: f64,
     /// [`Normal::lift_margin`] of the active constraint at the start of the current step.
@@ -166,6 +170,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             accumulation: Accumulation::default(),
             last_event_t: f64::NEG_INFINITY,
             stuck: 0,
+            time_scale: f64::MIN_POSITIVE,
             flight_bound: f64::INFINITY,
             lift_margin_start: 0.0,
             set_margin_start: 0.0,
@@ -219,6 +224,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let options = self.sim.options;
         let y0 = self.y.clone();
         self.restart(0.0, &y0, None)?;
+        self.time_scale = self.stepper.suggested_step();
         self.emit_grid_through(0.0)?;
         if let Next::Stop(outcome) = self.contact_at_start()? {
             return Ok(outcome);
@@ -339,6 +345,13 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let mut eqs = self.equations();
         let prepared = self.stepper.prepare_dense(&mut eqs);
         prepared.map_err(|e| self.step_error(e))
+    }
+
+    /// The run's time resolution at `t`: intervals shorter than this are not told apart (flights
+    /// to the Zeno point, events that do not advance time). On the run's own time scale, not in
+    /// seconds: a problem whose times are all scaled by `1/λ` is resolved alike.
+    fn time_resolution(&self, t: f64) -> f64 {
+        crate::events::time_resolution(t, self.time_scale)
     }
 
     /// Restarts the integrator at `(t, y)` in the current mode.

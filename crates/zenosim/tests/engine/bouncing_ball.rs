@@ -268,3 +268,41 @@ fn the_first_step_guess_overflowed_with_a_tiny_atol() {
     assert_eq!(run.zeno.len(), 1);
     assert!(relative(run.zeno[0].t_zeno, ball.zeno_time(H0)) < 1e-9);
 }
+
+#[test]
+fn a_fast_ball_was_put_to_rest_at_its_first_impact() {
+    // The time resolution was 64 ε max(|t|, 1 s): under g = 1e30 the flight after the first
+    // impact, 1.4e-15 s, was below it, and the run switched to the Zeno limit there as
+    // "chattering after 1 impact", at t1 though τ∞ = 3 t1 (under g = 1e25, 6 impacts and 2%
+    // early). Scaled by λ (g → λ² g, every time → time/λ) the ball must bounce as at λ = 1:
+    // as many impacts, genuinely Zeno, switched at the same fraction of τ∞. The tolerance is
+    // relative (atol = 1e-200, far below every state's rounding): an absolute one on the
+    // velocity, which scales by λ, would be a tighter tolerance on the faster ball, and `Auto`
+    // switches by it (with atol = 1e-10: 37 impacts at λ = 1, 46 at the others).
+    let reference = |g: f64| {
+        let (ball, run) = scaled(g, 1e-200);
+        assert_eq!(run.outcome, Outcome::Finished, "g = {g}");
+        assert_eq!(run.zeno.len(), 1, "g = {g}");
+        let z = &run.zeno[0];
+        assert_eq!(z.kind, ZenoKind::Genuine, "g = {g}");
+        let tau_inf = ball.zeno_time(H0);
+        assert!(
+            relative(z.t_zeno, tau_inf) < 1e-9,
+            "g = {g}: τ∞ = {} vs closed form {tau_inf}",
+            z.t_zeno
+        );
+        let impacts = run.impact_times(0).len();
+        assert_eq!(impacts, z.impacts, "g = {g}");
+        (impacts, z.t_switch / tau_inf)
+    };
+    let (impacts, fraction) = reference(G);
+    for lambda in [1e5, 1e10, 1e15, 1e25] {
+        let g = G * lambda * lambda;
+        let (scaled_impacts, scaled_fraction) = reference(g);
+        assert_eq!(scaled_impacts, impacts, "λ = {lambda}");
+        assert!(
+            relative(scaled_fraction, fraction) < 1e-6,
+            "λ = {lambda}: switched at {scaled_fraction} τ∞, at λ = 1 at {fraction} τ∞"
+        );
+    }
+}
