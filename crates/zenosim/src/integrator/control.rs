@@ -155,10 +155,14 @@ pub(super) fn hinit<S: OdeSystem>(
     f1: &mut [f64],
 ) -> f64 {
     let (rtol, atol) = (tol.rtol, tol.atol);
+    // Hairer's fallbacks for a state at rest take 1e-6 s; far from t = 0 that is below what
+    // f64 resolves at t (at t = 4e10, 16 ε t is 1.4e-4 s), so they are at least 1024 ε |t|,
+    // beyond the step-size floor. Nearer to t = 0 than 4.4e6 s nothing changes.
+    let fallback = 1e-6_f64.max(1024.0 * f64::EPSILON * t.abs());
     let d0 = weighted_rms(y, y, rtol, atol);
     let d1 = weighted_rms(f0, y, rtol, atol);
     let h0 = if d0 < 1e-5 || d1 < 1e-5 {
-        1e-6
+        fallback
     } else {
         0.01 * d0 / d1
     };
@@ -174,7 +178,7 @@ pub(super) fn hinit<S: OdeSystem>(
     let d2 = weighted_rms(f1, y, rtol, atol) / h0;
     let der = d1.max(d2);
     let h1 = if der <= 1e-15 {
-        (h0 * 1e-3).max(1e-6)
+        (h0 * 1e-3).max(fallback)
     } else {
         (0.01 / der).powf(1.0 / control.hinit_order)
     };

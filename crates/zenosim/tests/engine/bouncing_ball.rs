@@ -306,3 +306,35 @@ fn a_fast_ball_was_put_to_rest_at_its_first_impact() {
         );
     }
 }
+
+#[test]
+fn a_slow_ball_failed_at_its_zeno_point_with_a_step_of_one_microsecond() {
+    // Under g = 9.81e-20 the Zeno point is at τ∞ = 1.35e10 s. Resting there, the first step's
+    // guess fell back to Hairer's 1e-6 s, below what f64 resolves at t = 1.35e10 (16 ε t =
+    // 4.8e-5 s): the run failed with a "step size underflow" at its Zeno point. Scaled by λ
+    // (g → λ² g) the ball must run to its end as at λ = 1, genuinely Zeno at its closed form.
+    for lambda in [1e-5, 1e-10] {
+        let g = G * lambda * lambda;
+        let ball = BouncingBall::new(1.0, g, 0.5);
+        let tau_inf = ball.zeno_time(H0);
+        let options = SimulationOptions {
+            t_end: 2.0 * tau_inf,
+            tolerances: Tolerances {
+                rtol: 1e-10,
+                atol: 1e-200,
+            },
+            ..Default::default()
+        };
+        let run = Simulation::new(&ball, &[H0], &[0.0], options)
+            .unwrap()
+            .run(&mut ());
+        assert_eq!(run.outcome, Outcome::Finished, "λ = {lambda}");
+        assert_eq!(run.zeno.len(), 1, "λ = {lambda}");
+        assert_eq!(run.zeno[0].kind, ZenoKind::Genuine, "λ = {lambda}");
+        assert!(
+            relative(run.zeno[0].t_zeno, tau_inf) < 1e-9,
+            "λ = {lambda}: τ∞ = {} vs closed form {tau_inf}",
+            run.zeno[0].t_zeno
+        );
+    }
+}
