@@ -163,8 +163,20 @@ pub(super) fn hinit<S: OdeSystem>(
     let d1 = weighted_rms(f0, y, rtol, atol);
     let h0 = if d0 < 1e-5 || d1 < 1e-5 {
         fallback
-    } else {
+    } else if d1.is_finite() {
         0.01 * d0 / d1
+    } else {
+        // The weighted derivative overflows (a tiny atol, a large derivative: g = 1e11 with
+        // atol = 1e-300). The ratio d0 / d1 does not depend on the weights' common scale:
+        // taken with weights 2^512 times larger, it is finite.
+        let s = 2f64.powi(512);
+        let ratio =
+            weighted_rms(y, y, rtol * s, atol * s) / weighted_rms(f0, y, rtol * s, atol * s);
+        if ratio.is_finite() && ratio > 0.0 {
+            0.01 * ratio
+        } else {
+            fallback
+        }
     };
     for ((y1i, &yi), &fi) in y1.iter_mut().zip(y).zip(f0) {
         *y1i = yi + h0 * fi;
@@ -183,9 +195,9 @@ pub(super) fn hinit<S: OdeSystem>(
         (0.01 / der).powf(1.0 / control.hinit_order)
     };
     let h = (100.0 * h0).min(h1);
-    if h.is_finite() && h > 0.0 {
-        h
-    } else {
-        h0
-    }
+    let h = if h.is_finite() && h > 0.0 { h } else { h0 };
+    // Weights of 1e-308 on a component at 0 make the guess 1e-309 or less, below the normal
+    // numbers and so below every step-size floor: a thousand normal numbers' worth at least,
+    // from which the step grows (nothing changes for a guess of 1e-305 s or more).
+    h.max(1024.0 * f64::MIN_POSITIVE)
 }

@@ -270,6 +270,24 @@ fn the_first_step_guess_overflowed_with_a_tiny_atol() {
 }
 
 #[test]
+fn the_first_step_guess_was_zero_when_the_weighted_derivative_overflowed() {
+    // With atol = 1e-300 the velocity's weight is 1e-300, and g / 1e-300 overflows for
+    // g ≥ 1.8e8: the first step's guess 0.01 · ‖y‖ / ‖f‖ was 0.01 · d0 / ∞ = 0, and the run
+    // failed at t = 0 with "step size 0 underflowed" and advice to loosen the tolerances.
+    for (g, atol) in [(G * 1e10, 1e-300), (1e9, 1e-308)] {
+        let (ball, run) = scaled(g, atol);
+        assert_eq!(run.outcome, Outcome::Finished, "g = {g:e}");
+        assert_eq!(run.zeno.len(), 1, "g = {g:e}");
+        assert!(
+            relative(run.zeno[0].t_zeno, ball.zeno_time(H0)) < 1e-9,
+            "g = {g:e}: τ∞ = {:e} vs {:e}",
+            run.zeno[0].t_zeno,
+            ball.zeno_time(H0)
+        );
+    }
+}
+
+#[test]
 fn a_fast_ball_was_put_to_rest_at_its_first_impact() {
     // The time resolution was 64 ε max(|t|, 1 s): under g = 1e30 the flight after the first
     // impact, 1.4e-15 s, was below it, and the run switched to the Zeno limit there as
