@@ -541,6 +541,10 @@ impl Recording {
     }
 }
 
+// A model file tells the traced number from `f64` by its size (it has no derivative either):
+// `over_budget` in zenosim-model, which asks the budget of every scalar but `f64`.
+const _: () = assert!(size_of::<Sym>() != size_of::<f64>());
+
 /// A traced number: a constant, or an entry of the running tape.
 ///
 /// It is *tainted* when a simplification may have given it the other sign of zero than the dual

@@ -168,14 +168,17 @@ pub(super) fn hinit<S: OdeSystem>(
     } else {
         // The weighted derivative overflows (a tiny atol, a large derivative: g = 1e11 with
         // atol = 1e-300). The ratio d0 / d1 does not depend on the weights' common scale:
-        // taken with weights 2^512 times larger, it is finite.
+        // taken with weights 2^512 times larger, it is finite. Where it is still 0 (g = 1e60
+        // with atol = 1e-300: about 1e-350 s), no step f64 holds is small enough: the guess is
+        // 0, and the run stops at once saying that the tolerances ask too much (the fallback,
+        // a step for a state at rest, gave a wrong run that ended as if well).
         let s = 2f64.powi(512);
         let ratio =
             weighted_rms(y, y, rtol * s, atol * s) / weighted_rms(f0, y, rtol * s, atol * s);
         if ratio.is_finite() && ratio > 0.0 {
             0.01 * ratio
         } else {
-            fallback
+            return 0.0;
         }
     };
     for ((y1i, &yi), &fi) in y1.iter_mut().zip(y).zip(f0) {
@@ -198,6 +201,6 @@ pub(super) fn hinit<S: OdeSystem>(
     let h = if h.is_finite() && h > 0.0 { h } else { h0 };
     // Weights of 1e-308 on a component at 0 make the guess 1e-309 or less, below the normal
     // numbers and so below every step-size floor: a thousand normal numbers' worth at least,
-    // from which the step grows (nothing changes for a guess of 1e-305 s or more).
+    // from which the step grows (nothing changes for a guess of 2.3e-305 s or more).
     h.max(1024.0 * f64::MIN_POSITIVE)
 }

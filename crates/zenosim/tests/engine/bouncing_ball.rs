@@ -285,6 +285,19 @@ fn the_first_step_guess_was_zero_when_the_weighted_derivative_overflowed() {
             ball.zeno_time(H0)
         );
     }
+    // Regression (a review of the fix): where the ratio is still 0 after rescaling (the first
+    // step 1e-350 s or less), a first guess of 1e-6 s gave a run that ended as if well with its
+    // first impact 2 m above the floor. No step f64 holds serves: the run stops at t = 0.
+    for g in [1e60, 1e140] {
+        let (_, run) = scaled(g, 1e-300);
+        assert!(
+            matches!(run.outcome, Outcome::Failed(_)),
+            "g = {g:e}: {:?}",
+            run.outcome
+        );
+        assert_eq!(run.t_final, 0.0, "g = {g:e}");
+        assert!(run.events.is_empty(), "g = {g:e}");
+    }
 }
 
 #[test]
