@@ -1,7 +1,7 @@
 //! A hybrid Lagrangian whose `L`, `h`, forces, dissipation and optional `R∞` are compiled
 //! formulas of the time, the coordinates and the velocities.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::OnceLock;
 
 use zenosim::{Compiled, Constraint, HybridLagrangian, Scalar};
 
@@ -37,8 +37,9 @@ pub struct FileModel {
     /// Whether the compiled free motion is constant ([`HybridLagrangian::parabolic_flight`]): a
     /// fact of the formulas, kept when the model is [`FileModel::interpreted`].
     pub(crate) parabolic: bool,
-    /// The formula whose evaluation took a trace past its budget, for the loader's message.
-    pub(crate) over_budget_in: Crossing,
+    /// The first formula whose evaluation took a trace past its budget, for the loader's
+    /// message (a `OnceLock`, not a cell, so that the model stays `Sync`).
+    pub(crate) over_budget_in: OnceLock<Formula>,
 }
 
 /// One of a [`FileModel`]'s formulas.
@@ -50,52 +51,6 @@ pub(crate) enum Formula {
     Constraint(usize),
     /// The force on coordinate `index`.
     Force(usize),
-}
-
-impl Formula {
-    fn code(self) -> usize {
-        match self {
-            Formula::Lagrangian => 1,
-            Formula::Dissipation => 2,
-            Formula::Constraint(i) => 3 + 2 * i,
-            Formula::Force(i) => 4 + 2 * i,
-        }
-    }
-
-    fn of(code: usize) -> Option<Formula> {
-        Some(match code {
-            0 => return None,
-            1 => Formula::Lagrangian,
-            2 => Formula::Dissipation,
-            c if c % 2 == 1 => Formula::Constraint((c - 3) / 2),
-            c => Formula::Force((c - 4) / 2),
-        })
-    }
-}
-
-/// The first [`Formula`] whose evaluation found the trace past its budget; none yet at first.
-/// An atomic, not a cell, so that the model stays `Sync`; it is written once per refused file.
-#[derive(Debug, Default)]
-pub(crate) struct Crossing(AtomicUsize);
-
-impl Crossing {
-    /// Notes `formula`, unless an earlier one was noted.
-    fn note(&self, formula: Formula) {
-        let _ = self
-            .0
-            .compare_exchange(0, formula.code(), Ordering::Relaxed, Ordering::Relaxed);
-    }
-
-    /// The formula noted, if any.
-    pub(crate) fn get(&self) -> Option<Formula> {
-        Formula::of(self.0.load(Ordering::Relaxed))
-    }
-}
-
-impl Clone for Crossing {
-    fn clone(&self) -> Self {
-        Crossing(AtomicUsize::new(self.0.load(Ordering::Relaxed)))
-    }
 }
 
 /// A `[[constraint]]` of a [`FileModel`]: the constraint, its `h`, and its `zeno_reset`
@@ -123,7 +78,7 @@ impl FileModel {
             autonomous: true,
             compiled: None,
             parabolic: false,
-            over_budget_in: Crossing::default(),
+            over_budget_in: OnceLock::new(),
         };
         for (constraint, h, reset) in constraints {
             model.constraints.push(constraint);
@@ -215,7 +170,8 @@ impl FileModel {
     #[inline(always)]
     fn noting<D: Scalar, R>(&self, formula: Formula, value: R) -> R {
         if over_budget::<D>() {
-            self.over_budget_in.note(formula);
+            // An earlier formula, if one was noted, keeps its place.
+            let _ = self.over_budget_in.set(formula);
         }
         value
     }

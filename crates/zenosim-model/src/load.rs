@@ -540,7 +540,7 @@ impl<'s> Cx<'s> {
             let limit = self.limits.max_operations;
             // Named where the limit was crossed; when that was after the formulas (making the
             // programs), the longest formula is named, as the likeliest to shorten.
-            let (place, reached) = match model.over_budget_in.get() {
+            let (place, reached) = match model.over_budget_in.get().copied() {
                 Some(formula) => (formula_place(root, &model, formula), "it was reached in"),
                 None => {
                     let longest = std::iter::once(ModelFormula::Lagrangian)
@@ -1646,13 +1646,10 @@ impl<'s> Cx<'s> {
             let value: f64 = formula.eval_at(q, q_dot, 0.0);
             if !value.is_finite() {
                 let name = &model.coordinates[*index];
-                let at = root
-                    .get("forces")
-                    .and_then(|forces| forces.get_ref().as_table()?.get(name.as_str()))
-                    .map_or(0, |item| item.span().start);
+                let place = formula_place(root, model, ModelFormula::Force(*index));
                 return Err(self.at(
-                    at,
-                    &join("forces", name),
+                    place.span.start,
+                    &place.key,
                     format!(
                         "the force on `{name}` is {} at the initial state",
                         Readable(value)
@@ -1664,10 +1661,10 @@ impl<'s> Cx<'s> {
         if let Some(formula) = &model.dissipation {
             let value: f64 = formula.eval_at(q, q_dot, 0.0);
             if !value.is_finite() {
-                let at = root.get("dissipation").map_or(0, |item| item.span().start);
+                let place = formula_place(root, model, ModelFormula::Dissipation);
                 return Err(self.at(
-                    at,
-                    "dissipation",
+                    place.span.start,
+                    &place.key,
                     format!(
                         "the dissipation function is {} at the initial state",
                         Readable(value)
