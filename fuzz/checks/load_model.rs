@@ -1,6 +1,7 @@
 //! The check of the load_model fuzz target (`fuzz/fuzz_targets/load_model.rs`), shared with
-//! the test that replays the seeds in CI (`crates/zenosim-cli/tests/fuzz_replay.rs`), both of
-//! which include this file by `#[path]`.
+//! the test that replays the seeds in CI (`crates/zenosim-cli/tests/fuzz_replay.rs`) and the
+//! random-input test of the loader (`crates/zenosim-model/tests/random_input.rs`, which calls
+//! its `simulate`), all of which include this file by `#[path]`.
 //!
 //! The input is taken as a model file. If it is UTF-8 it goes to `parse_model`; lines of the
 //! form `#set NAME=VALUE` (TOML comments) become `--set` overrides, so that path is fuzzed too.
@@ -45,7 +46,9 @@ fn overrides(source: &str) -> Vec<Override> {
         .collect()
 }
 
-fn simulate(file: &ModelFile) {
+/// Runs an accepted model briefly, within the bounds above; panics where the engine refuses
+/// what the loader accepted, or a bound is not kept.
+pub fn simulate(file: &ModelFile) {
     let mut options = file.options();
     options.t_end = options.t_end.min(T_END);
     options.max_steps = options.max_steps.min(MAX_STEPS);

@@ -16,9 +16,8 @@ use std::time::Duration;
 use proptest::prelude::*;
 use proptest::sample::Index;
 use proptest::test_runner::Config;
-use zenosim::{OutputGrid, Simulation};
 use zenosim_model::expr::FUNCTION_NAMES;
-use zenosim_model::{parse_model, Location, ModelError, ModelFile, Override};
+use zenosim_model::{parse_model, Location, ModelError, Override};
 
 const FILE: &str = "random.toml";
 
@@ -36,10 +35,11 @@ const MODELS: [&str; 6] = [
 /// loads and runs a case in milliseconds; a hang never returns).
 const HANG: Duration = Duration::from_secs(20);
 
-/// The bounds of the simulation of an accepted model, as in the fuzz target.
-const T_END: f64 = 1.0;
-const MAX_STEPS: u64 = 2_000;
-const MAX_EVENTS: u64 = 200;
+/// The fuzz target's check: its `simulate` runs an accepted model within the same bounds here
+/// (`t_end ≤ 1`, 2000 steps, 200 events, 1000 uniform samples).
+#[path = "../../../fuzz/checks/load_model.rs"]
+#[allow(dead_code)]
+mod load_model;
 
 fn cases(default: u32) -> u32 {
     std::env::var("ZENOSIM_RANDOM_CASES")
@@ -88,7 +88,7 @@ fn check(source: String, overrides: Vec<Override>) -> Result<Verdict, TestCaseEr
     let (source, overrides, verdict) = within(move || {
         let verdict = match parse_model(FILE, &source, &overrides) {
             Ok(file) => {
-                simulate(&file);
+                load_model::simulate(&file);
                 Verdict::Loaded
             }
             Err(error) => Verdict::Refused(error),
@@ -103,29 +103,6 @@ fn check(source: String, overrides: Vec<Override>) -> Result<Verdict, TestCaseEr
 
 /// A short, bounded run of an accepted model. `parse_model` checks everything the engine
 /// checks before a run, so the engine must accept it.
-fn simulate(file: &ModelFile) {
-    let mut options = file.options();
-    options.t_end = options.t_end.min(T_END);
-    options.max_steps = options.max_steps.min(MAX_STEPS);
-    options.max_events = options.max_events.min(MAX_EVENTS);
-    if let OutputGrid::Uniform(dt) = options.output {
-        // At most max_steps / 2 samples: within the engine's t_end / dt <= max_steps, rounding
-        // included.
-        let dt_min = 2.0 * options.t_end / options.max_steps as f64;
-        options.output = OutputGrid::Uniform(dt.max(dt_min));
-    }
-    let simulation = Simulation::new(&file.model, &file.initial.q, &file.initial.q_dot, options)
-        .unwrap_or_else(|e| panic!("parse_model accepted a model that the engine refuses: {e}"));
-    let execution = simulation.run(&mut EverySample);
-    assert!(execution.events.len() as u64 <= options.max_events);
-    assert!(execution.stats.steps <= options.max_steps);
-}
-
-/// An observer that wants every sample, so that the output paths run.
-struct EverySample;
-
-impl zenosim::Observer for EverySample {}
-
 /// What `ModelError` promises (crates/zenosim-model/src/error.rs): its `Display` names the file,
 /// then the line and column (and the key) or the missing key or the override, then what is
 /// wrong, the offending line with a caret under the place, and what to do.
