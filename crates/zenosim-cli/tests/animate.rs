@@ -232,3 +232,32 @@ fn bad_arguments_are_refused() {
         stderr(&output)
     );
 }
+
+#[test]
+fn a_drawing_too_large_to_animate_is_refused() {
+    // A curve of 1000 points of a long formula: 1.6 million operations per frame, too many
+    // for 2000 frames.
+    let formula = vec!["sin(s)"; 400].join("+");
+    let source = bouncing_ball().replace(
+        "surfaces = [{ constraint = \"floor\", through = [\"left\", \"right\"] }]",
+        &format!(
+            "surfaces = [{{ constraint = \"floor\", curve = [\"s\", \"0*({formula})\"], s = [-1, 1], samples = 1000 }}]"
+        ),
+    );
+    let scratch = Scratch::new(&source);
+    assert_exit(&scratch.run(&[]), 0);
+    let output = scratch.zenosim(&[
+        "animate",
+        "out",
+        "--out",
+        "a.gif",
+        "--speed",
+        "0.01",
+        "--max-frames",
+        "2000",
+    ]);
+    assert_exit(&output, 2);
+    let err = stderr(&output);
+    assert!(err.contains("lower --max-frames"), "{err}");
+    assert!(!scratch.path("a.gif").exists());
+}

@@ -17,6 +17,11 @@ use crate::output::{split, OutputDir};
 use crate::run::{MODEL, SUMMARY, TRAJECTORY};
 use crate::{print_report, Classify, Failure, EXIT_OK};
 
+/// The most coordinates of points kept over all frames (160 MB).
+const MAX_VALUES: usize = 20_000_000;
+/// The most operations evaluating the drawing at every frame may take (seconds).
+const MAX_OPERATIONS: u64 = 2_000_000_000;
+
 /// `zenosim animate`: writes the GIF; the exit status.
 pub fn animate(args: &AnimateArgs) -> Result<u8, Failure> {
     let dir = &args.dir;
@@ -91,6 +96,21 @@ pub fn animate(args: &AnimateArgs) -> Result<u8, Failure> {
         step = duration / (max_frames - 1) as f64;
         count = max_frames;
         capped = true;
+    }
+    // Every frame's points are kept (to fix the box) and each costs an evaluation of the whole
+    // drawing: bounded, so that a drawing of many points cannot take unbounded memory or time.
+    let values = drawing.points().len() * drawing.dimension();
+    if count.saturating_mul(values) > MAX_VALUES
+        || (count as u64).saturating_mul(drawing.operations() as u64) > MAX_OPERATIONS
+    {
+        return Err(anyhow!(
+            "{model_name}: {count} frames of a drawing of {} points ({} operations each) is \
+             more than animate draws (at most {MAX_VALUES} coordinates and {MAX_OPERATIONS} \
+             operations in all): lower --max-frames, or draw fewer points",
+            drawing.points().len(),
+            drawing.operations()
+        ))
+        .bad_input();
     }
     let frames = animation_frames::read(
         &dir.join(TRAJECTORY),

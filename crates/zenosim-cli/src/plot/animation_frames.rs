@@ -209,7 +209,7 @@ pub fn read(
             placer.trace_between(&mut frames, &mut traced, p, &row, row.t)?;
         }
         if placer.tracing() && row.t > traced {
-            placer.place(&mut frames, row.t, &row.q)?;
+            placer.trace_point(&mut frames, row.t, &row.q)?;
             placer.since_frame += 1;
             traced = row.t;
         }
@@ -243,6 +243,18 @@ impl Placer<'_> {
         Ok(self.out.clone())
     }
 
+    /// The trace point alone at `t` and `q`, added to the trace.
+    fn trace_point(&mut self, frames: &mut Frames, t: f64, q: &[f64]) -> anyhow::Result<()> {
+        if let Some(k) = self.trace {
+            let mut p = [0.0; 3];
+            self.drawing
+                .evaluate_point(k, t, q, &mut p)
+                .map_err(|e| anyhow!("cannot draw the mechanism at t = {t}: {e}"))?;
+            frames.trace.push((p[0], p[1]));
+        }
+        Ok(())
+    }
+
     /// Whether the trace takes another point before the next frame.
     fn tracing(&self) -> bool {
         self.trace.is_some() && self.since_frame < TRACE_PER_FRAME
@@ -261,7 +273,7 @@ impl Placer<'_> {
         for i in 1..TRACE_BETWEEN {
             let t = a.t + (b.t - a.t) * i as f64 / TRACE_BETWEEN as f64;
             if t > *traced && t < to && self.tracing() {
-                self.place(frames, t, &between(a, b, t))?;
+                self.trace_point(frames, t, &between(a, b, t))?;
                 self.since_frame += 1;
                 *traced = t;
             }
