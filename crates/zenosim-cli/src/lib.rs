@@ -90,6 +90,7 @@ pub fn main() -> ExitCode {
         Command::Merge(args) => merge::merge(&args),
         Command::Check(args) => check::check(&args),
         Command::Plot(args) => plot::plot(&args),
+        Command::Animate(args) => plot::animate(&args),
         Command::Bench(args) => bench::bench(&args),
         Command::WorkPrecision(args) => plot::work_precision(&args),
     };
