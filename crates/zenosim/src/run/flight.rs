@@ -84,10 +84,15 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             let (q, q_dot) = y.split_at(n);
             for index in 0..self.sim.model.constraints().len() {
                 let (h, _, _) = guard_along(self.sim.model, index, t, q, q_dot);
-                let normal = self.normal(index, t, q, q_dot)?;
                 let surface = self.surface(index, t, q, q_dot);
                 let q_tol = surface.position_tolerance(self.sim.options.tolerances);
-                if h.abs() <= q_tol && normal.a_q_dot.abs() <= normal.a_q_dot_round_off {
+                // Away from the surface its normal is not asked for (it may be degenerate
+                // there, and is found so at the contact).
+                if h.abs() > q_tol {
+                    continue;
+                }
+                let normal = self.normal(index, t, q, q_dot)?;
+                if normal.a_q_dot.abs() <= normal.a_q_dot_round_off {
                     resting = resting.with(index);
                 }
             }
