@@ -146,7 +146,18 @@ pub fn draw_plane<DB: DrawingBackend>(
     chart.draw_series(shown.into_iter().map(|p| Circle::new(p, 4, impact)))?;
     if !liftoffs.is_empty() {
         layer.set("liftoffs", "");
-        chart.draw_series(events("liftoff").map(|p| TriangleMarker::new(p, 7, liftoff)))?;
+        let all: Vec<(f64, f64)> = events("liftoff").collect();
+        let thin = all.len() > 500;
+        let mut seen = std::collections::HashSet::new();
+        let shown: Vec<(f64, f64)> = all
+            .into_iter()
+            .filter(|p| !thin || seen.insert(chart.backend_coord(p)))
+            .collect();
+        chart.draw_series(
+            shown
+                .into_iter()
+                .map(|p| TriangleMarker::new(p, 7, liftoff)),
+        )?;
     }
     // The labels placed, as pixel boxes: a label that would overprint one is left out (the
     // table's thousands of Zeno points), as is a mark on the pixel of the one before.

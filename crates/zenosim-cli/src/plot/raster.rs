@@ -66,9 +66,14 @@ impl<'a> RasterCanvas<'a> {
         }
         let i = 3 * (y as usize * self.size.0 as usize + x as usize);
         let (r, g, b) = color.rgb;
+        if a >= 1.0 {
+            self.pixels[i..i + 3].copy_from_slice(&[r, g, b]);
+            return;
+        }
         for (k, c) in [r, g, b].into_iter().enumerate() {
             let old = f64::from(self.pixels[i + k]);
-            self.pixels[i + k] = (old + (f64::from(c) - old) * a).round() as u8;
+            // Rounded to the nearest (the sum is within 0..=255.5).
+            self.pixels[i + k] = (old + (f64::from(c) - old) * a + 0.5) as u8;
         }
     }
 
