@@ -781,12 +781,20 @@ def self_test(binary, model_files):
         # 3. the impact law on zenosim's impacts
         for e in impacts[:5]:
             before = np.array(e["before"]["q"] + e["before"]["q_dot"])
-            after = np.array(e["after"]["q"] + e["after"]["q_dot"])
+            # summary.json schema 4 leaves out `after.q` where it is `before.q`.
+            after = np.array(e["after"].get("q", e["before"]["q"]) + e["after"]["q_dot"])
             check(f"impact law vs zenosim's impacts: {name}",
                   float(np.max(np.abs(model.impact(before)[n:] - after[n:]))), 1e-10)
         # 4. the constrained dynamics from zenosim's Zeno point to t_end
         z = s["zeno"][0]
-        yz = np.array(z["point"]["q"] + z["point"]["q_dot"], dtype=float)
+        # Schema 4: the Zeno point's state is its event's `after` (`point` only for a stall).
+        if "point" in z:
+            point = z["point"]
+        else:
+            event = s["events"][z["event"]]
+            point = {"q": event["after"].get("q", event["before"]["q"]),
+                     "q_dot": event["after"]["q_dot"]}
+        yz = np.array(point["q"] + point["q_dot"], dtype=float)
         t_end = s["final"]["t"]
         sol = solve_ivp(model.make_constrained_rhs(), (z["t_switch"], t_end), yz,
                         method="DOP853", rtol=1e-12, atol=1e-12)

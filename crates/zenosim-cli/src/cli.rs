@@ -7,7 +7,7 @@ use zenosim::ZenoStrategy;
 use zenosim_model::Override;
 use zenosim_runs::sweep::{Axis, RunSettings, Shard};
 
-use crate::plot::{Format, MapSpec, Plane};
+use crate::plot::{Format, MapSpec, Plane, PlaneScale};
 use crate::size::{Bytes, DEFAULT_MAX_OUTPUT};
 
 /// Simulate a Lagrangian hybrid system with impacts, written in a model file, through its Zeno
@@ -311,6 +311,11 @@ pub struct RunArgs {
     #[arg(long, value_name = "X,Y", value_parser = parse_plane)]
     pub plane: Option<Plane>,
 
+    /// With --plot: the configuration plot's scales: `equal` (a unit as long on both axes
+    /// when both are coordinates) or `free` (each axis fitted to the path) [default: equal].
+    #[arg(long, value_enum, value_name = "equal|free")]
+    pub plane_scale: Option<PlaneScale>,
+
     /// The most events (impacts, switches, lift-offs) before the run stops as failed
     /// [default: the file's simulation.max_events, else 100000].
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
@@ -441,10 +446,13 @@ const PLOT_HELP: &str = "Plots, written into DIR as <name>.svg (or .png with --f
   zeno           the Zeno diagnostic: flight times between impacts against the impact index, on
                  a log scale, with the fitted ratio and the estimate of τ∞; a panel per Zeno point
 On every time plot impacts (dots) and lift-offs (triangles) are marked along the time axis, and
-each switch to the constrained motion (or the stall, with --zeno off) is a labelled vertical
-line. Long runs are decimated for drawing (per pixel column, its first, last, lowest and highest
-points); no event mark is dropped. Each file is written to a temporary name and renamed when
-complete. In SVG, each part is a group <g class=\"series|impacts|liftoffs|switch|stall|...\"
+each switch to the constrained motion (or the stall, with --zeno off, or where a failed run
+stopped) is a vertical line, labelled where the label overprints no other; more than 40
+switches (or switches a few pixels apart) are a rug of short marks along the top, counted in the
+legend. Long runs are decimated for drawing (per pixel column, its first, last, lowest and
+highest points); more than 500 marks of a kind are thinned to one per pixel column. The plane of
+two coordinates has equal scales (--plane-scale free: each axis fitted to the path). Each file
+is written to a temporary name and renamed when complete. In SVG, each part is a group <g class=\"series|impacts|liftoffs|switch|stall|...\"
 data-name=\"...\">.
 
 Exit status: 0 the plots are written; 1 a plot could not be written; 2 bad arguments, or DIR
@@ -467,6 +475,11 @@ pub struct PlotArgs {
     /// coordinate and its velocity].
     #[arg(long, value_name = "X,Y", value_parser = parse_plane)]
     pub plane: Option<Plane>,
+
+    /// The configuration plot's scales: `equal` (a unit as long on both axes when both are
+    /// coordinates, so that the plane keeps its shape) or `free` (each axis fitted to the path).
+    #[arg(long, value_enum, value_name = "equal|free", default_value = "equal")]
+    pub plane_scale: PlaneScale,
 }
 
 /// What `zenosim animate --help` says of the file and the exit status.

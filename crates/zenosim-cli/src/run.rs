@@ -42,9 +42,9 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     // Ctrl-C and SIGTERM stop the run(s) at the next step, keeping what was computed.
     signals::install();
     // Everything is checked before the output directory is touched.
-    if !args.plot && (args.format.is_some() || args.plane.is_some()) {
+    if !args.plot && (args.format.is_some() || args.plane.is_some() || args.plane_scale.is_some()) {
         return Err(anyhow!(
-            "--format and --plane say how to draw the plots: add --plot to draw them"
+            "--format, --plane and --plane-scale say how to draw the plots: add --plot to draw them"
         ))
         .bad_input();
     }
@@ -146,7 +146,12 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
 
     // The plots, from the files just completed, exactly as `zenosim plot` draws them.
     let plots = if args.plot {
-        plot::draw(&dir, args.format.unwrap_or_default(), args.plane.as_ref())
+        plot::draw_scaled(
+            &dir,
+            args.format.unwrap_or_default(),
+            args.plane.as_ref(),
+            args.plane_scale.unwrap_or_default(),
+        )
     } else {
         Ok(Vec::new())
     };
@@ -289,24 +294,7 @@ fn report(
     if let Some(balance) = balance {
         let _ = writeln!(text, "  energy:  {}", energy_line(balance));
     }
-    let stalled = matches!(run.outcome, Outcome::ZenoStalled { .. });
-    for (i, z) in run.zeno.iter().enumerate() {
-        // With --zeno off the last Zeno point is where the run stopped, not a switch.
-        let verb = if stalled && i + 1 == run.zeno.len() {
-            "stopped"
-        } else {
-            "switched"
-        };
-        let _ = writeln!(
-            text,
-            "  zeno:    {} on '{}' after {}: τ∞ ≈ {}, {verb} at t = {}",
-            z.kind.name(),
-            name(z.constraint),
-            plural(z.impacts, "impact"),
-            number(z.t_zeno),
-            number(z.t_switch)
-        );
-    }
+    zeno_lines(&mut text, run, &name);
     for (path, rows) in files {
         match rows {
             Some(rows) => {
@@ -318,6 +306,66 @@ fn report(
         }
     }
     text
+}
+
+/// Zeno points listed one a line up to this many; more are summed up in three lines.
+const ZENO_LINES: usize = 3;
+
+/// The report's lines on the Zeno points: one a point, or, for many (a vibrating table's 4000),
+/// their count and kinds, the range of their impacts and ratios, and the first and last.
+fn zeno_lines<'a>(text: &mut String, run: &Execution, name: &dyn Fn(usize) -> &'a str) {
+    let stalled = matches!(run.outcome, Outcome::ZenoStalled { .. });
+    let line = |i: usize| {
+        let z = &run.zeno[i];
+        // With --zeno off the last Zeno point is where the run stopped, not a switch.
+        let verb = if stalled && i + 1 == run.zeno.len() {
+            "stopped"
+        } else {
+            "switched"
+        };
+        format!(
+            "{} on '{}' after {}: τ∞ ≈ {}, {verb} at t = {}",
+            z.kind.name(),
+            name(z.constraint),
+            plural(z.impacts, "impact"),
+            number(z.t_zeno),
+            number(z.t_switch)
+        )
+    };
+    let count = run.zeno.len();
+    if count <= ZENO_LINES {
+        for i in 0..count {
+            let _ = writeln!(text, "  zeno:    {}", line(i));
+        }
+        return;
+    }
+    let genuine = run
+        .zeno
+        .iter()
+        .filter(|z| z.kind == zenosim::ZenoKind::Genuine)
+        .count();
+    let range = |values: &mut dyn Iterator<Item = f64>| {
+        let (low, high) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            (l.min(v), h.max(v))
+        });
+        if low > high {
+            "none".to_string()
+        } else if low == high {
+            short(low)
+        } else {
+            format!("{} to {}", short(low), short(high))
+        }
+    };
+    let impacts = range(&mut run.zeno.iter().map(|z| z.impacts as f64));
+    let ratios = range(&mut run.zeno.iter().filter_map(|z| z.ratio));
+    let _ = writeln!(
+        text,
+        "  zeno:    {count} Zeno points ({genuine} genuine, {} chattering), {impacts} impacts \
+         each, ratios {ratios} (every one in summary.json)",
+        count - genuine
+    );
+    let _ = writeln!(text, "  first:   {}", line(0));
+    let _ = writeln!(text, "  last:    {}", line(count - 1));
 }
 
 /// The energy balance in a line: `E` from start to end, the terms that are not 0, and the

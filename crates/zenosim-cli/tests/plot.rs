@@ -613,7 +613,12 @@ fn an_alternating_accumulation_draws_its_flights() {
         all.iter().any(|t| t.contains("on 'left'+'right'")),
         "{all:?}"
     );
-    assert!(all.iter().any(|t| t == "fit: ratio r = 0.5385"), "{all:?}");
+    // The legend names the flights the ratio was measured on (the engine's last 7).
+    assert!(
+        all.iter()
+            .any(|t| t == "fit: ratio r = 0.5385 (last 7 flights)"),
+        "{all:?}"
+    );
 }
 
 // ----- refusals -------------------------------------------------------------------------------
@@ -909,4 +914,377 @@ fn drawing_plots_again_and_again_leaks_no_memory() {
     }
     let leaked = live() - before;
     assert!(leaked <= 0, "10 drawings kept {leaked} bytes");
+}
+
+// ----- issue 24: plots that hold up ---------------------------------------------------------
+
+/// The vibrating table (models/vibrating-table.toml) run to `t_end` in a scratch directory,
+/// with `args`; its output in `out`.
+fn table_run(t_end: &str, args: &[&str]) -> Scratch {
+    let source = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/vibrating-table.toml"),
+    )
+    .unwrap();
+    let scratch = Scratch::new(&source);
+    let mut all = vec!["--t-end", t_end];
+    all.extend_from_slice(args);
+    assert_exit(&scratch.run(&all), 0);
+    scratch
+}
+
+/// An SVG text's box `(left, right, top, bottom)`, its width estimated low (half an em a
+/// character), so that boxes found overlapping do overlap.
+fn text_box(text: &Node<'_, '_>) -> (f64, f64, f64, f64) {
+    let at = |a: &str| text.attribute(a).unwrap().parse::<f64>().unwrap();
+    let (x, y, size) = (at("x"), at("y"), at("font-size"));
+    let width = 0.5 * size * text.text().unwrap_or("").chars().count() as f64;
+    let left = match text.attribute("text-anchor") {
+        Some("end") => x - width,
+        Some("middle") => x - width / 2.0,
+        _ => x,
+    };
+    (left, left + width, y, y + size)
+}
+
+/// Asserts that no two of `texts` overprint each other.
+fn assert_apart(texts: &[Node<'_, '_>], what: &str) {
+    for (i, a) in texts.iter().enumerate() {
+        for b in &texts[..i] {
+            let (p, q) = (text_box(a), text_box(b));
+            let overlap = p.0 < q.1 && q.0 < p.1 && p.2 < q.3 && q.2 < p.3;
+            assert!(!overlap, "{what}: {:?} overprints {:?}", a.text(), b.text());
+        }
+    }
+}
+
+/// The polylines of `class` that cross most of the plot's height (more than 200 pixels).
+fn tall_lines<'a>(doc: &'a Document<'a>, class: &str) -> usize {
+    inside(&groups(doc, class, None), "polyline")
+        .iter()
+        .filter(|l| {
+            let p = points(l);
+            let ys = p.iter().map(|q| q.1);
+            let span = ys.clone().fold(f64::MIN, f64::max) - ys.fold(f64::MAX, f64::min);
+            span > 200.0
+        })
+        .count()
+}
+
+/// Regression (issue 24): with thousands of events (the vibrating table to t = 40: 400 Zeno
+/// points, 3200 impacts) every switch was a line across the time plots, a black rectangle,
+/// with 400 labels over each other. Now a rug of short marks, counted in the legend.
+#[test]
+fn thousands_of_switches_drew_a_black_rectangle() {
+    let scratch = table_run("40", &["--plot"]);
+    let s = summary(&scratch.path("out"));
+    let switches = s["zeno"].as_array().unwrap().len();
+    assert!(switches > 300, "{switches} Zeno points");
+    for plot in ["velocities", "displacements", "energy"] {
+        let svg = text(&scratch.path(&format!("out/{plot}.svg")));
+        let doc = Document::parse(&svg).unwrap();
+        assert_eq!(tall_lines(&doc, "switch"), 0, "{plot}: no line across");
+        let marks = inside(&groups(&doc, "switch", None), "polyline").len();
+        assert!((100..=1000).contains(&marks), "{plot}: {marks} marks");
+        let labels = inside(&groups(&doc, "switch", None), "text");
+        assert_apart(&labels, plot);
+        let legend = format!("switch to constrained motion ({switches})");
+        assert!(texts(&doc).contains(&legend), "{plot}: {legend}");
+        // The impacts' marks: at most one per pixel column.
+        let impacts = inside(&groups(&doc, "impacts", None), "circle").len();
+        assert!(impacts <= 1000, "{plot}: {impacts} impact marks");
+        assert!(svg.len() < 1_500_000, "{plot}.svg: {} bytes", svg.len());
+    }
+}
+
+/// Regression (issue 24): at 15 Zeno points (the table to t = 1.5) the switch labels, four rows
+/// of them, already overprinted each other. Each label is where no other is (or left out).
+#[test]
+fn switch_labels_overprinted_each_other() {
+    let scratch = table_run("1.5", &["--plot"]);
+    let s = summary(&scratch.path("out"));
+    assert!(s["zeno"].as_array().unwrap().len() >= 14);
+    for plot in ["velocities", "figure"] {
+        let svg = text(&scratch.path(&format!("out/{plot}.svg")));
+        let doc = Document::parse(&svg).unwrap();
+        let labels = inside(&groups(&doc, "switch", None), "text");
+        assert!(!labels.is_empty(), "{plot}: some switch is labelled");
+        if plot == "figure" {
+            // Two time charts: each chart's labels apart.
+            let (a, b): (Vec<_>, Vec<_>) = labels
+                .iter()
+                .partition(|t| t.attribute("y").unwrap().parse::<f64>().unwrap() < 440.0);
+            assert_apart(&a, plot);
+            assert_apart(&b, plot);
+        } else {
+            assert_apart(&labels, plot);
+        }
+    }
+}
+
+/// The y tick labels of an SVG (right-aligned texts of the axes), as numbers.
+fn y_ticks(doc: &Document<'_>) -> Vec<String> {
+    inside(&groups(doc, "axes", None), "text")
+        .iter()
+        .filter(|t| t.attribute("text-anchor") == Some("end"))
+        .map(|t| t.text().unwrap_or("").to_string())
+        .collect()
+}
+
+/// Regression (issue 24): ticks printed the round-off of plotters' tick generator, `6.9e-18`
+/// (the table's energy) or `-5.55111523e-17`, instead of 0.
+#[test]
+fn round_off_ticks_printed_instead_of_zero() {
+    let scratch = table_run("40", &["--plot"]);
+    for plot in PLOTS {
+        let svg = text(&scratch.path(&format!("out/{plot}.svg")));
+        let doc = Document::parse(&svg).unwrap();
+        for tick in inside(&groups(&doc, "axes", None), "text") {
+            let label = tick.text().unwrap_or("");
+            if let Ok(value) = label.parse::<f64>() {
+                assert!(
+                    value == 0.0 || value.abs() > 1e-12 || plot == "zeno",
+                    "{plot}: tick {label}"
+                );
+            }
+        }
+    }
+}
+
+/// Regression (issue 24): a narrow range far from 0 (a ball falling 20 m from 5e11) labelled
+/// every tick `5e11`. The ticks are relative to an offset that the axis names.
+#[test]
+fn narrow_ranges_far_from_zero_labelled_every_tick_alike() {
+    let source = BALL.replace("x = 1.0", "x = 5e11");
+    let scratch = Scratch::new(&source);
+    assert_exit(&scratch.run(&["--plot"]), 0);
+    let svg = text(&scratch.path("out/displacements.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    let ticks = y_ticks(&doc);
+    assert!(ticks.len() >= 3, "{ticks:?}");
+    let mut distinct = ticks.clone();
+    distinct.sort();
+    distinct.dedup();
+    assert_eq!(distinct.len(), ticks.len(), "distinct: {ticks:?}");
+    assert!(ticks.iter().all(|t| t.len() <= 6), "short: {ticks:?}");
+    let all = texts(&doc);
+    assert!(
+        all.iter().any(|t| t == "displacement (5e11 + …)"),
+        "{all:?}"
+    );
+}
+
+/// Regression (issue 24): the Zeno diagnostic's dashed fit line went across every flight while
+/// its ratio is the engine's, measured on the last 7: it is drawn over those flights only.
+#[test]
+fn the_fit_line_spanned_flights_it_was_not_fitted_to() {
+    let scratch = Scratch::new(BALL_ON_SINE);
+    assert_exit(&scratch.run(&["--plot"]), 0);
+    let svg = text(&scratch.path("out/zeno.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    let flights: Vec<f64> = inside(&groups(&doc, "flights", Some("surface")), "circle")
+        .iter()
+        .map(|c| centre(c).0)
+        .collect();
+    assert!(flights.len() > 10);
+    let fit: Vec<(f64, f64)> = inside(&groups(&doc, "fit", Some("surface")), "polyline")
+        .iter()
+        .flat_map(points)
+        .collect();
+    let left = fit.iter().map(|p| p.0).fold(f64::INFINITY, f64::min);
+    let right = fit.iter().map(|p| p.0).fold(0.0, f64::max);
+    let first_of_tail = flights[flights.len() - 7];
+    assert!(
+        left >= first_of_tail - 4.0,
+        "the line starts at {left}, the tail at {first_of_tail}"
+    );
+    assert!((right - flights[flights.len() - 1]).abs() <= 4.0);
+    assert!(texts(&doc).iter().any(|t| t.ends_with("(last 7 flights)")));
+}
+
+/// The pixels per unit of the plane plot's axes, from two impacts far apart.
+fn plane_scales(doc: &Document<'_>, s: &Value, (i, j): (usize, usize)) -> (f64, f64) {
+    let events: Vec<&Value> = s["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["kind"] == "impact")
+        .collect();
+    let marks = inside(&groups(doc, "impacts", None), "circle");
+    let q = |k: usize| numbers(&events[k]["before"]["q"]);
+    let far = (1..events.len())
+        .max_by(|&a, &b| {
+            let d = |k: usize| (q(k)[i] - q(0)[i]).abs() + (q(k)[j] - q(0)[j]).abs();
+            d(a).total_cmp(&d(b))
+        })
+        .unwrap();
+    let (pa, pb) = (centre(&marks[0]), centre(&marks[far]));
+    let (dx, dy) = (q(far)[i] - q(0)[i], q(far)[j] - q(0)[j]);
+    ((pb.0 - pa.0) / dx, -(pb.1 - pa.1) / dy)
+}
+
+/// Regression (issue 24): the configuration plane's axes had scales of their own, so that 45°
+/// walls looked like slopes of 0.25. A unit is now as long on both; `--plane-scale free` fits
+/// each axis to the path as before.
+#[test]
+fn the_plane_had_unequal_scales() {
+    let scratch = Scratch::new(BALL_ON_SINE);
+    assert_exit(&scratch.run(&["--plot"]), 0);
+    let s = summary(&scratch.path("out"));
+    let doc_text = text(&scratch.path("out/plane.svg"));
+    let doc = Document::parse(&doc_text).unwrap();
+    let (kx, ky) = plane_scales(&doc, &s, (1, 2));
+    assert!((kx / ky - 1.0).abs() < 0.03, "{kx} and {ky} pixels a unit");
+    assert_exit(
+        &scratch.zenosim(&["plot", "out", "--plane-scale", "free"]),
+        0,
+    );
+    let doc_text = text(&scratch.path("out/plane.svg"));
+    let doc = Document::parse(&doc_text).unwrap();
+    let (kx, ky) = plane_scales(&doc, &s, (1, 2));
+    assert!((kx / ky - 1.0).abs() > 0.1, "free: {kx} and {ky}");
+}
+
+/// A model of `n` balls, each on its own floor.
+fn balls(n: usize) -> String {
+    let names: Vec<String> = (1..=n).map(|k| format!("y{k}")).collect();
+    let lagrangian: Vec<String> = names
+        .iter()
+        .map(|y| format!("0.5*{y}_dot^2 - 9.81*{y}"))
+        .collect();
+    let mut source = format!(
+        "name = \"balls\"\ndescription = \"balls\"\ncoordinates = [{}]\nlagrangian = \"{}\"\n",
+        names
+            .iter()
+            .map(|y| format!("\"{y}\""))
+            .collect::<Vec<_>>()
+            .join(", "),
+        lagrangian.join(" + ")
+    );
+    for y in &names {
+        source.push_str(&format!(
+            "\n[[constraint]]\nname = \"floor_{y}\"\nh = \"{y}\"\nrestitution = 0.5\n"
+        ));
+    }
+    source.push_str("\n[initial]\n");
+    for (k, y) in names.iter().enumerate() {
+        source.push_str(&format!("{y} = {}\n", 1.0 + 0.1 * k as f64));
+    }
+    source.push_str("\n[simulation]\nt_end = 0.5\n");
+    source
+}
+
+/// Regression (issue 24): with 20 coordinates the legend ran off the bottom of the plot.
+/// It holds what fits, and says how many more there are.
+#[test]
+fn the_legend_overflowed_at_20_coordinates() {
+    let scratch = Scratch::new(&balls(20));
+    assert_exit(&scratch.run(&["--plot"]), 0);
+    let svg = text(&scratch.path("out/velocities.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    let height: f64 = doc
+        .root_element()
+        .attribute("height")
+        .unwrap()
+        .parse()
+        .unwrap();
+    let legend = groups(&doc, "legend", None);
+    let labels = inside(&legend, "text");
+    for label in &labels {
+        let (_, _, _, bottom) = text_box(label);
+        assert!(bottom < height - 48.0, "{:?} at {bottom}", label.text());
+    }
+    let all: Vec<String> = labels
+        .iter()
+        .map(|t| t.text().unwrap().to_string())
+        .collect();
+    assert!(
+        all.iter()
+            .any(|t| t.starts_with("and ") && t.ends_with(" more")),
+        "{all:?}"
+    );
+    assert!(all.iter().any(|t| t.starts_with("impact")), "{all:?}");
+}
+
+/// Regression (issue 24): a failed run's plots did not show where it stopped.
+#[test]
+fn a_failed_run_had_no_mark_where_it_stopped() {
+    let scratch = Scratch::new(BALL);
+    let output = scratch.run(&["--plot", "--max-events", "3"]);
+    assert_exit(&output, 1);
+    let s = summary(&scratch.path("out"));
+    assert_eq!(s["status"], "failed");
+    let svg = text(&scratch.path("out/displacements.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    let lines = inside(&groups(&doc, "failure", None), "polyline");
+    assert_eq!(lines.len(), 1, "one failure line");
+    // Where the lines end.
+    let x = points(&inside(&groups(&doc, "series", Some("x")), "polyline")[0]);
+    let end = x[x.len() - 1].0;
+    assert!((points(&lines[0])[0].0 - end).abs() <= 1.0, "at {end}");
+    let labels = inside(&groups(&doc, "failure", None), "text");
+    assert!(labels[0].text().unwrap().starts_with("failed at t = "));
+}
+
+/// The RGB pixels of a PNG, and its width.
+fn png_pixels(path: &std::path::Path) -> (Vec<u8>, usize) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut pixels = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut pixels).unwrap();
+    (pixels, info.width as usize)
+}
+
+/// Whether `p` is `color` blended over white at some share between 10 % and 90 %.
+fn blend_of(p: &[u8], color: [u8; 3]) -> bool {
+    let share = |k: usize| (255.0 - f64::from(p[k])) / (255.0 - f64::from(color[k]));
+    let a = share(0);
+    (0.1..0.9).contains(&a)
+        && (0..3).all(|k| {
+            let expected = 255.0 - a * (255.0 - f64::from(color[k]));
+            (f64::from(p[k]) - expected).abs() <= 4.0
+        })
+}
+
+/// Regression (issue 24): PNG lines were not anti-aliased: a series was its colour or white.
+#[test]
+fn png_lines_were_not_anti_aliased() {
+    let scratch = Scratch::new(BALL_ON_SINE);
+    assert_exit(&scratch.run(&["--plot", "--format", "png"]), 0);
+    let (pixels, _) = png_pixels(&scratch.path("out/plane.png"));
+    let blue = [31, 119, 180];
+    let blended = pixels.chunks(3).filter(|p| blend_of(p, blue)).count();
+    let pure = pixels.chunks(3).filter(|p| *p == blue).count();
+    // Two pixels wide, a line has about as many edge pixels as full ones (plotters': 1 in 9).
+    assert!(
+        blended > pure / 2,
+        "{blended} pixels of the path's edges, {pure} of the path"
+    );
+}
+
+/// Regression (issue 24): in the PNG the series were drawn outside the axes, over the title
+/// and the tick labels (the thick lines' miter joins of a decimated series spiked out), and
+/// drawing them took 10 to 20 s (the table to t = 400).
+#[test]
+fn png_series_were_drawn_outside_the_plot() {
+    let scratch = table_run("400", &[]);
+    let start = std::time::Instant::now();
+    assert_exit(&scratch.zenosim(&["plot", "out", "--format", "png"]), 0);
+    let seconds = start.elapsed().as_secs_f64();
+    let (pixels, width) = png_pixels(&scratch.path("out/velocities.png"));
+    let blue = [31u8, 119, 180];
+    let bluish = |p: &[u8]| p == blue || blend_of(p, blue);
+    // The title's band, and the tick labels' band left of the plot.
+    let rows = 0..36;
+    let title = rows
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .filter(|&(x, y)| bluish(&pixels[3 * (y * width + x)..3 * (y * width + x) + 3]))
+        .count();
+    assert_eq!(title, 0, "series pixels over the title");
+    let left = (0..480)
+        .flat_map(|y| (0..85).map(move |x| (x, y)))
+        .filter(|&(x, y)| bluish(&pixels[3 * (y * width + x)..3 * (y * width + x) + 3]))
+        .count();
+    assert_eq!(left, 0, "series pixels over the tick labels");
+    // Generous for a loaded machine: the release build takes about a second.
+    assert!(seconds < 8.0, "{seconds} s");
 }

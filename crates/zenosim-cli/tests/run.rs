@@ -80,8 +80,14 @@ fn a_run_writes_a_complete_trajectory_and_summary() {
     assert!((t_zeno - 2.0456).abs() < 1e-3, "τ∞ = {t_zeno}");
     assert!(t_switch <= t_zeno + 1e-9 && t_zeno - t_switch < 1e-3);
     assert!(z["impacts"].as_u64().unwrap() > 10);
-    assert_eq!(numbers(&z["point"]["q"]).len(), 3);
-    assert_eq!(numbers(&z["point"]["q_dot"]).len(), 3);
+    // Schema 4: the point's state is its `zeno` event's `after`, not repeated.
+    assert!(z.get("point").is_none(), "{z}");
+    let event = &s["events"][z["event"].as_u64().unwrap() as usize];
+    assert_eq!(event["kind"], "zeno");
+    assert_eq!(event["t"], z["t_switch"]);
+    let q = event["after"].get("q").unwrap_or(&event["before"]["q"]);
+    assert_eq!(numbers(q).len(), 3);
+    assert_eq!(numbers(&event["after"]["q_dot"]).len(), 3);
     assert!(z["ratio"].as_f64().is_some_and(|r| (r - 0.6).abs() < 0.05));
 
     // Every event's states are rows of the CSV: the one before and the one after.
@@ -94,7 +100,8 @@ fn a_run_writes_a_complete_trajectory_and_summary() {
         assert_eq!(e["constraint"], "surface");
         let t = e["t"].as_f64().unwrap();
         for side in ["before", "after"] {
-            let q = numbers(&e[side]["q"]);
+            // Schema 4: `after` leaves out a `q` unchanged from `before`.
+            let q = numbers(e[side].get("q").unwrap_or(&e["before"]["q"]));
             let q_dot = numbers(&e[side]["q_dot"]);
             assert!(
                 csv.rows
@@ -176,7 +183,7 @@ fn an_autonomous_run_keeps_its_columns_and_balances_its_energy_with_the_impacts(
         "no energy balance columns for an autonomous model"
     );
     let s = summary(&scratch.path("out"));
-    assert_eq!(s["schema_version"], 3);
+    assert_eq!(s["schema_version"], 4);
     let b = &s["energy_balance"];
     let energy = csv.column("energy");
     let (first, last) = (&csv.rows[0], csv.rows.last().unwrap());
@@ -757,4 +764,58 @@ fn a_second_sigint_stops_at_once_leaving_no_temporary_file() {
     let s = summary(&out);
     let now = std::fs::read(out.join("summary.json")).unwrap();
     assert!(now == old_summary || s["status"] == "interrupted");
+}
+
+/// Regression (issue 24): the terminal summary printed a line per Zeno point (4007 lines for
+/// the vibrating table to t = 400). It stays a few lines: the count, the ranges of impacts and
+/// ratios, the first and the last.
+#[test]
+fn the_terminal_summary_printed_a_line_per_zeno_point() {
+    let source = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/vibrating-table.toml"),
+    )
+    .unwrap();
+    let scratch = Scratch::new(&source);
+    let output = scratch.run(&["--t-end", "40", "--plot"]);
+    assert_exit(&output, 0);
+    let s = summary(&scratch.path("out"));
+    let count = s["zeno"].as_array().unwrap().len();
+    assert!(count > 300, "{count}");
+    let report = stdout(&output);
+    assert!(report.lines().count() < 20, "{report}");
+    assert!(
+        report.contains(&format!("  zeno:    {count} Zeno points ({count} genuine")),
+        "{report}"
+    );
+    let first = s["zeno"][0]["t_switch"].as_f64().unwrap();
+    let last = s["zeno"][count - 1]["t_switch"].as_f64().unwrap();
+    assert!(report.contains("  first:   genuine on 'table'"), "{report}");
+    assert!(
+        report.contains(&format!("switched at t = {first}")),
+        "{report}"
+    );
+    assert!(
+        report.contains(&format!("switched at t = {last}")),
+        "{report}"
+    );
+    assert!(report.contains("ratios 0.19"), "{report}");
+}
+
+/// Regression (issue 24): a ball started at rest on the floor was reported as "a Zeno point
+/// after 1 impact" (`ratio` null). It says it started there, held.
+#[test]
+fn a_start_at_rest_was_reported_as_a_zeno_point() {
+    let scratch = Scratch::new(&BALL.replace("x = 1.0", "x = 0.0"));
+    let output = scratch.run(&[]);
+    assert_exit(&output, 0);
+    let report = stdout(&output);
+    assert!(
+        report.starts_with("ball: started at rest on 'floor': held from t = 0; finished at t = 2"),
+        "{report}"
+    );
+    assert!(!report.contains("zeno:"), "{report}");
+    let s = summary(&scratch.path("out"));
+    assert_eq!(s["zeno"].as_array().unwrap().len(), 0);
+    assert_eq!(s["events"].as_array().unwrap().len(), 0);
+    assert_eq!(s["intervals"][0]["mode"], "constrained");
 }

@@ -1,6 +1,6 @@
 //! What happened in a run, in a sentence: the `message` of `summary.json` and of a sweep's rows.
 
-use zenosim::{Error, Execution, Outcome};
+use zenosim::{ActiveSet, Error, Execution, Mode, Outcome};
 
 use crate::number::number;
 
@@ -17,6 +17,33 @@ pub fn plural(count: usize, what: &str) -> String {
 pub fn message(run: &Execution, constraints: &[String]) -> String {
     let name = |index: usize| constraints.get(index).map_or("?", String::as_str);
     let impacts = plural(run.stats.impacts as usize, "impact");
+    let outcome = outcome(run, constraints, &impacts);
+    match held_at_start(run) {
+        Some(set) => {
+            let names: Vec<String> = set.iter().map(|i| format!("'{}'", name(i))).collect();
+            format!(
+                "started at rest on {}: held from t = 0; {outcome}",
+                names.join(" and ")
+            )
+        }
+        None => outcome,
+    }
+}
+
+/// The constraints a run started at rest on, held from `t = 0`, if any.
+pub fn held_at_start(run: &Execution) -> Option<ActiveSet> {
+    match run.intervals.first()? {
+        i if i.start == 0.0 => match i.mode {
+            Mode::Constrained(set) => Some(set),
+            Mode::Free => None,
+        },
+        _ => None,
+    }
+}
+
+/// What became of `run`, in a sentence.
+fn outcome(run: &Execution, constraints: &[String], impacts: &str) -> String {
+    let name = |index: usize| constraints.get(index).map_or("?", String::as_str);
     match &run.outcome {
         Outcome::Finished => format!(
             "finished at t = {} after {impacts} and {}",

@@ -12,7 +12,10 @@ use zenosim_model::ModelFile;
 
 /// The version of `summary.json`'s layout, documented in docs/output.md. 2: events list
 /// their `contacts` and `impulses`, Zeno points their `constraints`. 3: `energy_balance`.
-pub const SCHEMA_VERSION: u32 = 3;
+/// 4: no state written twice: a Zeno point names its event (`event`) instead of repeating its
+/// state (`point` only for a point with no event, a stall), and an event's `after` leaves out
+/// `q` where it is `before`'s.
+pub const SCHEMA_VERSION: u32 = 4;
 
 /// The whole summary.
 #[derive(DeriveSerialize)]
@@ -65,12 +68,20 @@ pub struct Summary<'a> {
 /// 100 000 events).
 pub struct Lazy<'a, T, U> {
     items: &'a [T],
-    map: Box<dyn Fn(&'a T) -> U + 'a>,
+    map: Box<dyn Fn(usize, &'a T) -> U + 'a>,
 }
 
 impl<'a, T, U> Lazy<'a, T, U> {
     /// `items`, each serialised as `map` makes it.
     pub fn new(items: &'a [T], map: impl Fn(&'a T) -> U + 'a) -> Self {
+        Self {
+            items,
+            map: Box::new(move |_, item| map(item)),
+        }
+    }
+
+    /// `items`, each serialised as `map` makes it from its index and itself.
+    pub fn indexed(items: &'a [T], map: impl Fn(usize, &'a T) -> U + 'a) -> Self {
         Self {
             items,
             map: Box::new(map),
@@ -93,13 +104,19 @@ impl<T, U> Lazy<'_, T, U> {
 impl<'a, T, U> Lazy<'a, T, U> {
     /// Every item, mapped.
     pub fn collect(self) -> Vec<U> {
-        self.items.iter().map(&self.map).collect()
+        let map = &self.map;
+        self.items
+            .iter()
+            .enumerate()
+            .map(|(k, item)| map(k, item))
+            .collect()
     }
 }
 
 impl<T, U: Serialize> Serialize for Lazy<'_, T, U> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        serializer.collect_seq(self.items.iter().map(&self.map))
+        let map = &self.map;
+        serializer.collect_seq(self.items.iter().enumerate().map(|(k, item)| map(k, item)))
     }
 }
 
@@ -302,8 +319,39 @@ pub struct ZenoJson<'a> {
     pub impacts: usize,
     /// The measured ratio of successive flight times, if measured.
     pub ratio: Option<f64>,
-    /// The state after R∞ (the last state reached, when stalled).
-    pub point: StateJson<'a>,
+    /// The index in `events` of its `zeno` event, whose `after` is the state after R∞; `null`
+    /// for a point with no event (a stall, where the run stopped).
+    pub event: Option<usize>,
+    /// The state reached, for a point with no event only (else its event's `after`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub point: Option<StateJson<'a>>,
+}
+
+/// The state just after an event: `q` left out where it is the state's before (an impact,
+/// a lift-off).
+#[derive(DeriveSerialize)]
+pub struct AfterJson<'a> {
+    /// The coordinates, if they changed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub q: Option<&'a [f64]>,
+    /// The velocities.
+    pub q_dot: &'a [f64],
+}
+
+impl<'a> AfterJson<'a> {
+    /// The state `after` an event from `before`.
+    pub fn of(before: &State, after: &'a State) -> Self {
+        let same = before.q.len() == after.q.len()
+            && before
+                .q
+                .iter()
+                .zip(&after.q)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+        Self {
+            q: (!same).then_some(&after.q[..]),
+            q_dot: &after.q_dot,
+        }
+    }
 }
 
 /// An event.
@@ -321,8 +369,8 @@ pub struct EventJson<'a> {
     pub impulses: &'a [f64],
     /// The state just before.
     pub before: StateJson<'a>,
-    /// The state just after.
-    pub after: StateJson<'a>,
+    /// The state just after (without `q` where it is `before`'s).
+    pub after: AfterJson<'a>,
 }
 
 /// An interval of the hybrid time domain.
@@ -394,6 +442,15 @@ impl<'a> Record<'a> {
         let run = self.run;
         let file = self.file;
         let energy_balance = EnergyBalanceJson::of(&file.model, &file.initial, run);
+        // The events of the Zeno points, in order: the k-th `zeno` event is the k-th point's
+        // (a point with none, a stall or a run failed at its switch, is the last).
+        let zeno_events: Vec<usize> = run
+            .events
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| e.kind == zenosim::EventKind::Zeno)
+            .map(|(k, _)| k)
+            .collect();
         Summary {
             schema_version: SCHEMA_VERSION,
             model: &file.name,
@@ -430,15 +487,19 @@ impl<'a> Record<'a> {
                 energy: energy_balance.energy_end,
             },
             energy_balance,
-            zeno: Lazy::new(&run.zeno, move |z| ZenoJson {
-                constraint: name(z.constraint),
-                constraints: active_names(z.constraints, names),
-                kind: z.kind.name(),
-                t_switch: z.t_switch,
-                t_zeno: z.t_zeno,
-                impacts: z.impacts,
-                ratio: z.ratio,
-                point: (&z.point).into(),
+            zeno: Lazy::indexed(&run.zeno, move |k, z| {
+                let event = zeno_events.get(k).copied();
+                ZenoJson {
+                    constraint: name(z.constraint),
+                    constraints: active_names(z.constraints, names),
+                    kind: z.kind.name(),
+                    t_switch: z.t_switch,
+                    t_zeno: z.t_zeno,
+                    impacts: z.impacts,
+                    ratio: z.ratio,
+                    event,
+                    point: event.is_none().then(|| (&z.point).into()),
+                }
             }),
             events: Lazy::new(&run.events, move |e| EventJson {
                 kind: e.kind.name(),
@@ -447,7 +508,7 @@ impl<'a> Record<'a> {
                 contacts: active_names(e.contacts, names),
                 impulses: &e.impulses,
                 before: (&e.before).into(),
-                after: (&e.after).into(),
+                after: AfterJson::of(&e.before, &e.after),
             }),
             intervals: Lazy::new(&run.intervals, move |i| IntervalJson {
                 start: i.start,

@@ -77,9 +77,19 @@ fn events_and_zeno_points_serialise_with_summary_json_s_keys() {
             "t_zeno",
             "impacts",
             "ratio",
-            "point"
+            "event"
         ]
     );
+    // Schema 4: the point's state is its event's `after`, not written again; an impact's
+    // `after` leaves out the unchanged `q`.
+    let k = points[0]["event"].as_u64().unwrap() as usize;
+    assert_eq!(events[k]["kind"], "zeno");
+    assert!(
+        events[0]["after"].get("q").is_none(),
+        "{}",
+        events[0]["after"]
+    );
+    assert!(events[0]["after"]["q_dot"].is_array());
     // τ∞ = t₁ (1 + e)/(1 − e), t₁ = √(2 h0/g), for the file's h0 = 1, g = 9.81, e = 0.5.
     let tau = (2.0f64 / 9.81).sqrt() * 3.0;
     let t_zeno = points[0]["t_zeno"].as_f64().unwrap();

@@ -1,14 +1,15 @@
 //! Drawing a picture in a file format: SVG (text, drawn by [`SvgCanvas`]) or PNG (pixels,
-//! drawn by plotters' bitmap backend and encoded by `png`).
+//! drawn by [`RasterCanvas`], anti-aliased, and encoded by `png`).
 
 use std::sync::OnceLock;
 
 use anyhow::{anyhow, Context};
 use plotters::coord::Shift;
-use plotters::prelude::{BitMapBackend, DrawingArea, DrawingAreaErrorKind, IntoDrawingArea};
+use plotters::prelude::{DrawingArea, DrawingAreaErrorKind, IntoDrawingArea};
 use plotters::style::FontStyle;
 use plotters_backend::DrawingBackend;
 
+use super::raster::RasterCanvas;
 use super::svg::{Layer, SvgCanvas};
 
 /// The font family every text of the plots is set in.
@@ -16,7 +17,7 @@ pub const FONT: &str = "sans-serif";
 
 /// DejaVu Sans, for the text of PNG plots and for measuring text in both formats (licence:
 /// `fonts/LICENSE`).
-static FONT_FILE: &[u8] = include_bytes!("../../fonts/DejaVuSans.ttf");
+pub(super) static FONT_FILE: &[u8] = include_bytes!("../../fonts/DejaVuSans.ttf");
 
 /// The plots' file format.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
@@ -81,11 +82,15 @@ pub fn render(picture: &impl Picture, format: Format) -> anyhow::Result<Vec<u8>>
             Ok(text.into_bytes())
         }
         Format::Png => {
-            let mut pixels = vec![0; size.0 as usize * size.1 as usize * 3];
+            let mut pixels = vec![255; size.0 as usize * size.1 as usize * 3];
             {
-                let area = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+                let font = ab_glyph::FontRef::try_from_slice(FONT_FILE)
+                    .map_err(|_| anyhow!("the bundled font cannot be read"))?;
+                let layer = Layer::default();
+                let canvas = RasterCanvas::new(&mut pixels, size, layer.clone(), Some(font));
+                let area = canvas.into_drawing_area();
                 picture
-                    .draw(&area, &Layer::default())
+                    .draw(&area, &layer)
                     .and_then(|()| area.present())
                     .map_err(|e| failed(e.to_string()))?;
             }
@@ -147,7 +152,8 @@ mod tests {
             let i = (y * 120 + x) * 3;
             (pixels[i], pixels[i + 1], pixels[i + 2])
         };
-        assert_eq!(at(60, 40), (255, 0, 0), "on the diagonal");
+        assert_eq!(at(60, 40).0, 255, "on the diagonal");
+        assert!(at(60, 40).1 < 40, "on the diagonal: {:?}", at(60, 40));
         assert_eq!(at(100, 10), (255, 255, 255), "off it");
         // The caption's glyphs are drawn: dark pixels around (60, 10), none in the corner.
         let dark = |x0: usize, y0: usize| {
@@ -158,6 +164,63 @@ mod tests {
         };
         assert!(dark(60, 3) > 10, "text is rasterised");
         assert_eq!(dark(2, 60), 0);
+    }
+
+    /// `text` drawn at (10, 10) in the font at size 100 as a PNG: the columns that have ink.
+    fn ink_columns(text: &'static str) -> Vec<usize> {
+        struct Word(&'static str);
+        impl Picture for Word {
+            fn size(&self) -> (u32, u32) {
+                (400, 140)
+            }
+            fn draw<DB: DrawingBackend>(
+                &self,
+                area: &DrawingArea<DB, Shift>,
+                _: &Layer,
+            ) -> Drawn<DB> {
+                area.fill(&WHITE)?;
+                area.draw(&Text::new(self.0, (10, 10), (FONT, 100).into_font()))
+            }
+        }
+        let bytes = render(&Word(text), Format::Png).unwrap();
+        let mut reader = png::Decoder::new(std::io::Cursor::new(bytes))
+            .read_info()
+            .unwrap();
+        let mut pixels = vec![0; reader.output_buffer_size()];
+        reader.next_frame(&mut pixels).unwrap();
+        (0..400)
+            .filter(|&x| (0..140).any(|y| pixels[3 * (y * 400 + x)] < 128))
+            .collect()
+    }
+
+    /// Regression: plotters' bitmap text dropped each glyph's left side bearing and truncated
+    /// its advance, so that glyphs sat unevenly ("constrai ned"). Each glyph's ink starts where
+    /// the font puts it: the pen's position plus its side bearing.
+    #[test]
+    fn glyph_spacing_was_uneven_in_pngs() {
+        let font = ab_glyph::FontRef::try_from_slice(FONT_FILE).unwrap();
+        use ab_glyph::{Font, ScaleFont};
+        let scale = super::super::raster::scale_for(&font, 100.0);
+        let scaled = font.as_scaled(scale);
+        let i = scaled.glyph_id('i');
+        let (advance, bearing) = (scaled.h_advance(i), scaled.h_side_bearing(i));
+        assert!(bearing > 3.0, "a glyph with a wide side bearing: {bearing}");
+        let ink = ink_columns("ii");
+        // Two runs of ink, each starting at the pen plus the bearing.
+        let starts: Vec<usize> = ink
+            .iter()
+            .enumerate()
+            .filter(|&(k, &x)| k == 0 || ink[k - 1] + 1 != x)
+            .map(|(_, &x)| x)
+            .collect();
+        assert_eq!(starts.len(), 2, "{ink:?}");
+        let expected = [10.0 + bearing, 10.0 + advance + bearing];
+        for (start, expected) in starts.iter().zip(expected) {
+            assert!(
+                (*start as f32 - expected).abs() <= 1.0,
+                "ink at {start}, the font says {expected}"
+            );
+        }
     }
 
     #[test]

@@ -40,6 +40,8 @@ pub enum Sample {
     Triangle(ShapeStyle),
     /// A square.
     Square(ShapeStyle),
+    /// No sample: a note.
+    None,
 }
 
 /// A legend entry.
@@ -107,7 +109,7 @@ pub fn drawable((low, high): (f64, f64)) -> std::ops::Range<f64> {
 }
 
 /// A chart builder on `area` with `caption`, room for the axes' labels and, on the right, for
-/// the legend of `entries`.
+/// the legend of `entries`. An empty caption is none (the caller titled the area itself).
 pub fn frame<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
     caption: &str,
@@ -117,8 +119,10 @@ pub fn frame<'a, DB: DrawingBackend>(
         LEGEND_ROOM.max(w + SAMPLE_WIDTH + 2 * LEGEND_MARGIN + LEGEND_GAP + 12)
     });
     let mut builder = ChartBuilder::on(area);
+    if !caption.is_empty() {
+        builder.caption(caption, (FONT, TITLE_SIZE));
+    }
     builder
-        .caption(caption, (FONT, TITLE_SIZE))
         .margin(12)
         .margin_right(right)
         .x_label_area_size(48)
@@ -142,6 +146,16 @@ pub fn legend<DB: DrawingBackend, CT: CoordTranslate>(
     let (base, origin) = (area.get_base_pixel(), plot.get_base_pixel());
     let x = origin.0 - base.0 + plot.dim_in_pixel().0 as i32 + LEGEND_GAP;
     let y = origin.1 - base.1;
+    // As many entries as the plot's height holds; the rest folded into "and N more".
+    let room = (plot.dim_in_pixel().1 as i32 - 2 * LEGEND_MARGIN) / ENTRY_HEIGHT;
+    let folded;
+    let entries = match fold(entries, room.max(1) as usize) {
+        Some(kept) => {
+            folded = kept;
+            &folded[..]
+        }
+        None => entries,
+    };
     let (w, h) = (
         width + SAMPLE_WIDTH + 2 * LEGEND_MARGIN,
         ENTRY_HEIGHT * entries.len() as i32 + 2 * LEGEND_MARGIN,
@@ -168,6 +182,7 @@ pub fn legend<DB: DrawingBackend, CT: CoordTranslate>(
             Sample::Square(style) => {
                 area.draw(&Rectangle::new([(cx - 5, cy - 5), (cx + 5, cy + 5)], style))?
             }
+            Sample::None => {}
         }
         area.draw(&Text::new(
             entry.label.clone(),
@@ -176,6 +191,93 @@ pub fn legend<DB: DrawingBackend, CT: CoordTranslate>(
         ))?;
     }
     Ok(())
+}
+
+/// `entries` cut to `room` lines, the last saying how many were left out ("and 12 more"):
+/// `None` when they all fit. The last entries (the event marks, after the series) are kept.
+fn fold(entries: &[Entry], room: usize) -> Option<Vec<Entry>> {
+    if entries.len() <= room {
+        return None;
+    }
+    // The entries from the first that is not a line on (the impacts, lift-offs and other
+    // marks): a third of the room at most, the series the rest.
+    let first_mark = entries
+        .iter()
+        .position(|e| !matches!(e.sample, Sample::Line(_)))
+        .unwrap_or(entries.len());
+    let marks = (entries.len() - first_mark).min(room.saturating_sub(1) / 3);
+    let series = room.saturating_sub(marks + 1).max(1);
+    let series = series.min(first_mark.max(1));
+    let mut kept: Vec<Entry> = entries[..series].to_vec();
+    let from = first_mark.max(series);
+    let shown = (entries.len() - from).min(room.saturating_sub(series + 1));
+    let left = entries.len() - series - shown;
+    kept.push(Entry::new(format!("and {left} more"), Sample::None));
+    kept.extend_from_slice(&entries[from..from + shown]);
+    Some(kept)
+}
+
+/// How an axis labels its ticks: round-off next to 0 (a tick at `-5.6e-17`) is 0, and a range
+/// narrow for its distance from 0 (`5e11 + 0.1 … 5e11 + 0.9`) is labelled relative to an offset
+/// that the axis' description names (`x (5e11 + …)`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TickAxis {
+    /// The offset subtracted from every tick, if any.
+    pub offset: Option<f64>,
+    /// Its digits, as the description writes it.
+    digits: usize,
+    /// Ticks closer to 0 than this (relative to the offset) are 0.
+    zero: f64,
+}
+
+impl TickAxis {
+    /// The labelling of an axis over `range`.
+    pub fn new(range: std::ops::Range<f64>) -> Self {
+        let (low, high) = (range.start.min(range.end), range.start.max(range.end));
+        let span = high - low;
+        let size = low.abs().max(high.abs());
+        let plain = Self {
+            offset: None,
+            digits: 0,
+            zero: span * 1e-9,
+        };
+        if !(span > 0.0 && span.is_finite() && size.is_finite()) || size / span < 1e5 {
+            return plain;
+        }
+        // A round offset near the middle, so that the ticks relative to it have a few digits.
+        let unit = 10f64.powf(span.log10().ceil());
+        let offset = ((low / 2.0 + high / 2.0) / unit).round() * unit;
+        if !offset.is_finite() || offset == 0.0 {
+            return plain;
+        }
+        let digits = (offset.abs().log10().floor() - unit.log10()).max(0.0) as usize + 1;
+        Self {
+            offset: Some(offset),
+            digits: digits.min(17),
+            ..plain
+        }
+    }
+
+    /// The tick at `x`, as its label shows it: relative to the offset, round-off to 0 dropped.
+    pub fn value(&self, x: f64) -> f64 {
+        let x = x - self.offset.unwrap_or(0.0);
+        if x.abs() < self.zero {
+            0.0
+        } else {
+            x
+        }
+    }
+
+    /// The axis' description `desc`, naming the offset.
+    pub fn describe(&self, desc: &str) -> String {
+        match self.offset {
+            Some(offset) => format!(
+                "{desc} ({} + …)",
+                super::style::trim(&super::style::significant(offset, self.digits))
+            ),
+            None => desc.to_string(),
+        }
+    }
 }
 
 /// Draws the grid, the axes, their tick labels and their descriptions.
@@ -207,18 +309,24 @@ where
     Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
     layer.set("axes", "");
+    let (x_axis, y_axis) = (
+        TickAxis::new(chart.x_range()),
+        TickAxis::new(chart.y_range()),
+    );
+    let x_label = |x: &f64| label(&x_axis.value(*x));
+    let y_label = |y: &f64| label(&y_axis.value(*y));
     chart
         .configure_mesh()
-        .x_desc(x_desc)
-        .y_desc(y_desc)
+        .x_desc(x_axis.describe(x_desc))
+        .y_desc(y_axis.describe(y_desc))
         .axis_desc_style((FONT, LABEL_SIZE))
         .label_style((FONT, TEXT_SIZE))
         .bold_line_style(GRID)
         .light_line_style(GRID_MINOR)
         .x_labels(labels.0)
         .y_labels(labels.1)
-        .x_label_formatter(label)
-        .y_label_formatter(label)
+        .x_label_formatter(&x_label)
+        .y_label_formatter(&y_label)
         .draw()
 }
 
@@ -232,7 +340,43 @@ pub fn note(color: RGBColor, h: HPos, v: VPos) -> TextStyle<'static> {
 
 #[cfg(test)]
 mod tests {
-    use super::drawable;
+    use super::*;
+
+    #[test]
+    fn legends_fold_what_does_not_fit() {
+        let line = Sample::Line(BLACK.stroke_width(1));
+        let dot = Sample::Dot(BLACK.filled(), 3);
+        let mut entries: Vec<Entry> = (0..20).map(|k| Entry::new(format!("y{k}"), line)).collect();
+        entries.push(Entry::new("impact (3)", dot));
+        entries.push(Entry::new("lift-off (1)", dot));
+        assert!(fold(&entries, 22).is_none());
+        let kept = fold(&entries, 10).unwrap();
+        assert_eq!(kept.len(), 10);
+        let labels: Vec<&str> = kept.iter().map(|e| e.label.as_str()).collect();
+        assert_eq!(labels[0], "y0");
+        assert!(labels.contains(&"impact (3)"), "{labels:?}");
+        let more = labels.iter().find(|l| l.starts_with("and ")).unwrap();
+        // Every entry is shown or counted.
+        let n: usize = more[4..more.len() - 5].parse().unwrap();
+        assert_eq!(n + kept.len() - 1, entries.len(), "{labels:?}");
+    }
+
+    #[test]
+    fn round_off_ticks_are_zero_and_narrow_ranges_offset() {
+        let axis = TickAxis::new(-1.0..1.0);
+        assert_eq!(axis.value(-5.551115123125783e-17), 0.0);
+        assert_eq!(axis.value(0.25), 0.25);
+        assert_eq!(axis.describe("x"), "x");
+        let axis = TickAxis::new(5e11 - 21.6..5e11 + 2.4);
+        assert_eq!(axis.offset, Some(5e11));
+        assert_eq!(axis.describe("y"), "y (5e11 + …)");
+        assert_eq!(axis.value(5e11 - 15.0), -15.0);
+        let axis = TickAxis::new(123456.78..123456.79);
+        assert_eq!(axis.describe("t"), "t (123456.79 + …)");
+        // Wide ranges and ranges about 0 have no offset.
+        assert_eq!(TickAxis::new(0.0..400.0).offset, None);
+        assert_eq!(TickAxis::new(399.9..400.0).offset, None);
+    }
 
     #[test]
     fn drawable_ranges_are_finite_and_resolvable() {

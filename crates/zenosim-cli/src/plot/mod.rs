@@ -18,6 +18,7 @@ mod decimate;
 mod figure;
 mod gif_file;
 mod plane_chart;
+mod raster;
 mod record;
 mod scene;
 mod sequences;
@@ -37,6 +38,7 @@ use anyhow::{anyhow, Context};
 
 pub use animation::animate;
 pub use canvas::Format;
+pub use scene::PlaneScale;
 pub use style::short;
 pub use sweep_map::{draw_map, MapSpec};
 pub use work_precision::work_precision;
@@ -114,7 +116,12 @@ impl Plane {
 
 /// `zenosim plot DIR`: draws the plots of the run in `DIR`.
 pub fn plot(args: &PlotArgs) -> Result<u8, Failure> {
-    let written = draw(&args.dir, args.format, args.plane.as_ref())?;
+    let written = draw_scaled(
+        &args.dir,
+        args.format,
+        args.plane.as_ref(),
+        args.plane_scale,
+    )?;
     let mut report = String::new();
     for path in written {
         report.push_str(&format!("wrote {}\n", path.display()));
@@ -127,6 +134,16 @@ pub fn plot(args: &PlotArgs) -> Result<u8, Failure> {
 /// default the one [`default_plane`] picks); the files written. An unreadable run is a bad
 /// input; a file that cannot be written, an output failure.
 pub fn draw(dir: &Path, format: Format, plane: Option<&Plane>) -> Result<Vec<PathBuf>, Failure> {
+    draw_scaled(dir, format, plane, PlaneScale::default())
+}
+
+/// [`draw`] with the configuration plane's scales `scale`.
+pub fn draw_scaled(
+    dir: &Path,
+    format: Format,
+    plane: Option<&Plane>,
+    scale: PlaneScale,
+) -> Result<Vec<PathBuf>, Failure> {
     let record = Record::read(&dir.join(SUMMARY)).bad_input()?;
     let columns = match plane {
         Some(plane) => plane
@@ -135,7 +152,8 @@ pub fn draw(dir: &Path, format: Format, plane: Option<&Plane>) -> Result<Vec<Pat
             .bad_input()?,
         None => default_plane(&record),
     };
-    let scene = Scene::load(&dir.join(TRAJECTORY), record, columns).bad_input()?;
+    let mut scene = Scene::load(&dir.join(TRAJECTORY), record, columns).bad_input()?;
+    scene.scale = scale;
 
     let out = OutputDir::existing(dir).output()?;
     let mut written = Vec::new();

@@ -81,8 +81,24 @@ pub struct ZenoRecord {
     pub impacts: u64,
     /// The ratio of successive flight times.
     pub ratio: Option<f64>,
+    /// Its event's index in `events` (schema 4), whose `after` is its state.
+    #[serde(default)]
+    pub event: Option<usize>,
+    /// The state after `R∞` (the last state, when stalled): written before schema 4, and in
+    /// schema 4 for a point without an event; filled from its event on reading.
+    #[serde(default)]
+    point: Option<StateRecord>,
+}
+
+impl ZenoRecord {
     /// The state after `R∞` (the last state, when stalled).
-    pub point: StateRecord,
+    pub fn point(&self) -> &StateRecord {
+        static NONE: StateRecord = StateRecord {
+            q: Vec::new(),
+            q_dot: Vec::new(),
+        };
+        self.point.as_ref().unwrap_or(&NONE)
+    }
 }
 
 /// An event.
@@ -96,10 +112,23 @@ pub struct EventRecord {
     pub constraint: String,
     /// The state just before.
     pub before: StateRecord,
+    /// The state just after: without `q` where it is `before`'s (schema 4).
+    #[serde(default)]
+    pub after: Option<AfterRecord>,
+}
+
+/// The state just after an event.
+#[derive(Debug, Deserialize)]
+pub struct AfterRecord {
+    /// The configuration, if it changed (always, before schema 4).
+    #[serde(default)]
+    pub q: Option<Vec<Option<f64>>>,
+    /// The velocities.
+    pub q_dot: Vec<Option<f64>>,
 }
 
 /// A state; `null` stands for a non-finite number.
-#[derive(Debug, Deserialize)]
+#[derive(Clone, Debug, Deserialize)]
 pub struct StateRecord {
     /// The configuration.
     pub q: Vec<Option<f64>>,
@@ -144,7 +173,7 @@ impl Record {
                  summary.json last, once the run is complete)"
             )
         })?;
-        let record: Self = serde_json::from_reader(BufReader::new(file)).map_err(|error| {
+        let mut record: Self = serde_json::from_reader(BufReader::new(file)).map_err(|error| {
             let text = error.to_string();
             let message = text.rfind(" at line ").map_or(&*text, |end| &text[..end]);
             // serde quotes a string of the wrong type whole: a name of a megabyte.
@@ -158,7 +187,31 @@ impl Record {
         record.check().map_err(|problem| {
             anyhow!("{display}: {problem}; run the model again to write a new one")
         })?;
+        record.resolve_points().map_err(|problem| {
+            anyhow!("{display}: {problem}; run the model again to write a new one")
+        })?;
         Ok(record)
+    }
+
+    /// Each Zeno point's state: its own (`point`), or its event's `after` (schema 4).
+    fn resolve_points(&mut self) -> Result<(), String> {
+        for (k, z) in self.zeno.iter_mut().enumerate() {
+            if z.point.is_some() {
+                continue;
+            }
+            let event = z.event.and_then(|i| self.events.get(i));
+            let Some((event, after)) = event.and_then(|e| Some((e, e.after.as_ref()?))) else {
+                return Err(format!(
+                    "Zeno point {} has no state: neither a point nor an event with one",
+                    k + 1
+                ));
+            };
+            z.point = Some(StateRecord {
+                q: after.q.clone().unwrap_or_else(|| event.before.q.clone()),
+                q_dot: after.q_dot.clone(),
+            });
+        }
+        Ok(())
     }
 
     /// The consistency the plots rely on.

@@ -24,6 +24,18 @@ pub struct Scene {
     pub plane_box: Bounds,
     /// The curves `h = 0` of the constraints that depend on the plane's coordinates only.
     pub curves: Vec<Curve>,
+    /// The plane plot's scales.
+    pub scale: PlaneScale,
+}
+
+/// The scales of the configuration plane's axes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum PlaneScale {
+    /// A unit as long on both axes when both are coordinates (the plane's true shape).
+    #[default]
+    Equal,
+    /// Each axis fitted to the path.
+    Free,
 }
 
 /// A constraint's curve `h = 0` in the plane.
@@ -53,6 +65,7 @@ impl Scene {
             plane,
             plane_box,
             curves,
+            scale: PlaneScale::default(),
         })
     }
 
@@ -79,7 +92,7 @@ pub fn default_plane(record: &Record) -> (usize, usize) {
 
 /// The curves `h = 0` in the plane of columns `plane` over `bounds`, for each constraint whose
 /// `h` reads no coordinate but the plane's.
-fn curves(record: &Record, plane: (usize, usize), bounds: Bounds) -> Vec<Curve> {
+pub fn curves(record: &Record, plane: (usize, usize), bounds: Bounds) -> Vec<Curve> {
     let n = record.coordinates.len();
     record
         .constraints

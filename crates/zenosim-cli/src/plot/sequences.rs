@@ -112,7 +112,13 @@ pub struct Fit {
     pub ratio: f64,
     /// A point `(i_a, Δ_a)` of the line.
     pub anchor: (f64, f64),
+    /// The first and last flights `i` it was fitted to: where it is drawn.
+    pub span: (f64, f64),
 }
+
+/// The flights the engine measures a Zeno point's ratio over: the last 7 (the geometric mean
+/// of 6 ratios, `RATIO_BASELINE` in the engine's `zeno.rs`).
+pub const TAIL_FLIGHTS: usize = 7;
 
 impl Fit {
     /// The least-squares line through `(i, ln Δ_i)`, with at least two points.
@@ -131,6 +137,7 @@ impl Fit {
         Some(Self {
             ratio: (sxy / sxx).exp(),
             anchor: (mean_i, mean_y.exp()),
+            span: (flights[0].0, flights[flights.len() - 1].0),
         })
     }
 
@@ -167,12 +174,19 @@ impl<'a> Flights<'a> {
         let zero = deltas.len() - flights.len();
         let (fit, tau) = match sequence.zeno {
             // The engine's ratio (the geometric mean of the last flights' ratios) through the
-            // last flight, and its τ∞.
+            // last flight, over the flights it was measured on, and its τ∞.
             Some((_, z)) => (
                 z.ratio
                     .filter(|r| *r > 0.0 && r.is_finite())
                     .zip(flights.last())
-                    .map(|(ratio, &anchor)| Fit { ratio, anchor }),
+                    .map(|(ratio, &anchor)| {
+                        let first = deltas.len().saturating_sub(TAIL_FLIGHTS - 1).max(1);
+                        Fit {
+                            ratio,
+                            anchor,
+                            span: (first as f64, anchor.0),
+                        }
+                    }),
                 z.t_zeno,
             ),
             None => {

@@ -12,8 +12,9 @@ pub const TEXT_SIZE: u32 = 15;
 /// Lines of the data.
 pub const LINE_WIDTH: u32 = 2;
 
-/// The series' colours, in turn (Tableau's palette without its red and pink, kept for marks).
-pub const PALETTE: [RGBColor; 8] = [
+/// The series' colours, in turn: 20 that tell apart on white (Tableau's palette without its red
+/// and pink, kept for marks, then darker and lighter hues), no two closer than 50 in RGB.
+pub const PALETTE: [RGBColor; 20] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
@@ -22,6 +23,18 @@ pub const PALETTE: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
     RGBColor(188, 189, 34),
     RGBColor(127, 127, 127),
+    RGBColor(0, 0, 128),
+    RGBColor(0, 128, 128),
+    RGBColor(230, 171, 2),
+    RGBColor(0, 80, 40),
+    RGBColor(100, 170, 255),
+    RGBColor(255, 187, 120),
+    RGBColor(152, 223, 138),
+    RGBColor(60, 60, 60),
+    RGBColor(84, 39, 143),
+    RGBColor(128, 0, 0),
+    RGBColor(90, 90, 30),
+    RGBColor(0, 200, 120),
 ];
 
 /// Impact marks.
@@ -72,7 +85,7 @@ pub fn tick(x: &f64) -> String {
 }
 
 /// `text`'s mantissa without trailing zeros (and without a trailing point).
-fn trim(text: &str) -> String {
+pub fn trim(text: &str) -> String {
     let (mantissa, exponent) = text.split_at(text.find('e').unwrap_or(text.len()));
     let mantissa = if mantissa.contains('.') {
         mantissa.trim_end_matches('0').trim_end_matches('.')
@@ -95,6 +108,26 @@ mod tests {
         assert_eq!(significant(1.5e-9, 3), "1.50e-9");
         assert_eq!(significant(0.0, 3), "0");
         assert_eq!(color(0), color(PALETTE.len()));
+    }
+
+    /// Regression: the palette had 8 colours, so the 9th series of a model had the 1st one's
+    /// colour (the issue saw colours repeat every 10 series). 20 series are told apart: no two
+    /// colours, nor a colour and the impact or lift-off marks, are close.
+    #[test]
+    fn colours_repeated_every_few_series() {
+        let distance = |a: RGBColor, b: RGBColor| {
+            let d = |x: u8, y: u8| (f64::from(x) - f64::from(y)).powi(2);
+            (d(a.0, b.0) + d(a.1, b.1) + d(a.2, b.2)).sqrt()
+        };
+        for i in 0..20 {
+            for j in 0..i {
+                let d = distance(color(i), color(j));
+                assert!(d >= 45.0, "series {i} and {j}: {d}");
+            }
+            for mark in [IMPACT, LIFTOFF] {
+                assert!(distance(color(i), mark) >= 60.0, "series {i}");
+            }
+        }
     }
 
     #[test]

@@ -15,7 +15,10 @@ use plotters_backend::{
 /// The layer being drawn, shared by the drawing code (which sets it) and the SVG canvas (which
 /// groups the elements by it); other backends ignore it.
 #[derive(Clone, Debug, Default)]
-pub struct Layer(Rc<RefCell<Group>>);
+pub struct Layer(Rc<RefCell<Group>>, Rc<std::cell::Cell<Option<Clip>>>);
+
+/// A rectangle of the canvas, in pixels: `(left, top)` included, `(right, bottom)` excluded.
+pub type Clip = ((i32, i32), (i32, i32));
 
 /// A group's class and name; an empty class is no group.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -32,6 +35,27 @@ impl Layer {
             class: class.to_string(),
             name: name.to_string(),
         };
+    }
+
+    /// What is drawn next is clipped to `area` (the plot, for the series), by the backends that
+    /// clip (the PNG's); until [`Layer::unclip`].
+    pub fn clip_to<DB: DrawingBackend>(
+        &self,
+        area: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
+    ) {
+        let (x, y) = area.get_base_pixel();
+        let (w, h) = area.dim_in_pixel();
+        self.1.set(Some(((x, y), (x + w as i32, y + h as i32))));
+    }
+
+    /// What is drawn next is not clipped.
+    pub fn unclip(&self) {
+        self.1.set(None);
+    }
+
+    /// The clip set, if any.
+    pub fn clip(&self) -> Option<Clip> {
+        self.1.get()
     }
 
     fn current(&self) -> Group {

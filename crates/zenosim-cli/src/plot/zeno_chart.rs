@@ -130,7 +130,13 @@ impl ZenoChart<'_> {
         let style = color(0).stroke_width(LINE_WIDTH);
         let mut entries = Vec::new();
         if let Some(fit) = panel.fit {
-            let label = format!("fit: ratio r = {}", significant(fit.ratio, 4));
+            let fitted = (fit.span.1 - fit.span.0) as usize + 1;
+            let on = if fitted < panel.flights.len() {
+                format!(" (last {fitted} flights)")
+            } else {
+                String::new()
+            };
+            let label = format!("fit: ratio r = {}{on}", significant(fit.ratio, 4));
             entries.push(Entry::new(label, Sample::Line(fit_style)));
         }
         let label = format!("flight times ({})", panel.flights.len());
@@ -145,7 +151,9 @@ impl ZenoChart<'_> {
         chart.draw_series(panel.flights.iter().map(|&p| Circle::new(p, 3, mark)))?;
         if let Some(fit) = panel.fit {
             layer.set("fit", panel.sequence.constraint);
-            let line: Vec<(f64, f64)> = [1.0, last].iter().map(|&i| (i, fit.at(i))).collect();
+            // Over the flights it was fitted to only: the tail, for a Zeno point.
+            let (from, to) = fit.span;
+            let line: Vec<(f64, f64)> = [from, to].iter().map(|&i| (i, fit.at(i))).collect();
             chart.draw_series(DashedLineSeries::new(line, 6, 4, fit_style))?;
         }
 
@@ -235,6 +243,7 @@ mod tests {
         let fit = p.fit.unwrap();
         assert_eq!(fit.ratio, 0.5);
         assert_eq!(fit.anchor, (2.0, 1.7 - 1.5));
+        assert_eq!(fit.span, (1.0, 2.0));
         assert_eq!(p.tau, Some(1.9 + 1e-9));
         let notes = ZenoChart::new(&r).notes(&p);
         assert!(

@@ -114,12 +114,13 @@ class Run:
     def events(self) -> list[dict[str, Any]]:
         """Every event, as summary.json's ``events``: ``kind`` (``impact``, ``zeno``,
         ``liftoff``), ``t``, ``constraint``, ``contacts``, ``impulses``, ``before``,
-        ``after``."""
+        ``after`` (without ``q`` where it is ``before``'s, summary.json's schema 4)."""
     @property
     def zeno(self) -> list[dict[str, Any]]:
         """Every Zeno point, as summary.json's ``zeno``: ``constraint``, ``constraints``,
         ``kind``, ``t_switch``, ``t_zeno`` (the estimate of τ∞), ``impacts``, ``ratio``,
-        ``point``."""
+        ``event`` (the index in ``events`` of its ``zeno`` event, whose ``after`` is the state
+        after R∞), and ``point`` only for a point without an event (a stall)."""
     @property
     def final(self) -> dict[str, Any]:
         """Where the run ended, as summary.json's ``final``: ``t``, ``mode``, ``active``,

@@ -2,7 +2,7 @@
 //! the admissible side, a spurious crossing or an impact, and which constraints are closed there.
 
 use super::equations::project_onto;
-use super::{interpolate, Next, Runner};
+use super::{holding, interpolate, Next, Runner};
 use crate::derivatives::guard_along;
 use crate::error::Error;
 use crate::events::first_crossing_or_touch;
@@ -49,7 +49,12 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let (q, q_dot) = y.split_at(n);
         // The first contact; the others at the surface join it in the impact law.
         let mut contact = None;
+        let held = self.held();
         for index in 0..self.sim.model.constraints().len() {
+            if held.contains(index) {
+                // Held from the start ([`Runner::rest_at_start`]).
+                continue;
+            }
             let (h, _, _) = guard_along(self.sim.model, index, self.t, q, q_dot);
             if h > 0.0 || leaving(&self.normal(index, self.t, q, q_dot)?) {
                 continue;
@@ -64,6 +69,45 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             }
             None => Ok(Next::Continue),
         }
+    }
+
+    /// A start at rest on surfaces (`h` within the position tolerance, `ḣ` within its
+    /// rounding) that hold the body (docs/contact-laws.md, law 1) is no impact and no Zeno
+    /// point: the run starts in the constrained motion on them, its first interval held from
+    /// `t = 0`. (It was an impact of zero impulse at `t = 0` and a Zeno point "after 1 impact"
+    /// with no ratio.)
+    pub(super) fn rest_at_start(&mut self) -> Result<(), Error> {
+        let (n, t) = (self.n, self.t);
+        let mut y = self.y.clone();
+        let mut resting = ActiveSet::empty();
+        {
+            let (q, q_dot) = y.split_at(n);
+            for index in 0..self.sim.model.constraints().len() {
+                let (h, _, _) = guard_along(self.sim.model, index, t, q, q_dot);
+                let surface = self.surface(index, t, q, q_dot);
+                let q_tol = surface.position_tolerance(self.sim.options.tolerances);
+                // Away from the surface its normal is not asked for (it may be degenerate
+                // there, and is found so at the contact).
+                if h.abs() > q_tol {
+                    continue;
+                }
+                let normal = self.normal(index, t, q, q_dot)?;
+                if normal.a_q_dot.abs() <= normal.a_q_dot_round_off {
+                    resting = resting.with(index);
+                }
+            }
+        }
+        let held = self.held_of(resting, t, &y)?;
+        if held.is_empty() {
+            return Ok(());
+        }
+        let start = y.clone();
+        project_onto(&self.mech, held, t, n, &mut y)
+            .map_err(|err| self.fail_dynamics(err, t, &start))?;
+        self.mode = holding(held);
+        self.y.copy_from_slice(&y);
+        self.restart(t, &y, None)?;
+        self.enter_mode(t)
     }
 
     /// The guard of constraint `index` crossed at `t_event`, from the state `before` on its

@@ -225,6 +225,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         let y0 = self.y.clone();
         self.restart(0.0, &y0, None)?;
         self.time_scale = self.stepper.suggested_step();
+        self.rest_at_start()?;
         self.emit_grid_through(0.0)?;
         if let Next::Stop(outcome) = self.contact_at_start()? {
             return Ok(outcome);

@@ -369,3 +369,42 @@ fn a_slow_ball_failed_at_its_zeno_point_with_a_step_of_one_microsecond() {
         );
     }
 }
+
+/// Regression (issue 24): a ball started at rest on the floor was "a Zeno point after 1 impact,
+/// ratio null": an impact of zero impulse at t = 0 and a switch there. It is held from t = 0:
+/// no event, no Zeno point, one constrained interval, and it stays on the floor.
+#[test]
+fn a_start_at_rest_on_the_floor_was_a_zeno_point_after_one_impact() {
+    let ball = BouncingBall::new(1.0, G, 0.5);
+    for zeno in [ZenoStrategy::Auto, ZenoStrategy::Off] {
+        let options = SimulationOptions {
+            t_end: 2.0,
+            zeno,
+            ..Default::default()
+        };
+        let mut trajectory = Trajectory::default();
+        let run = Simulation::new(&ball, &[0.0], &[0.0], options)
+            .unwrap()
+            .run(&mut trajectory);
+        assert_eq!(run.outcome, Outcome::Finished, "{zeno:?}");
+        assert!(run.zeno.is_empty(), "{zeno:?}: {:?}", run.zeno);
+        assert!(run.events.is_empty(), "{zeno:?}: {:?}", run.events);
+        assert_eq!(run.stats.impacts, 0);
+        assert_eq!(run.intervals.len(), 1);
+        let held = Mode::Constrained(zenosim::ActiveSet::single(0));
+        assert_eq!((run.intervals[0].start, run.intervals[0].mode), (0.0, held));
+        assert_eq!(run.final_mode, held);
+        assert!(trajectory.points.iter().all(|p| p.q[0].abs() <= 1e-12));
+    }
+    // Resting on it but thrown up, or above it: a flight as before.
+    let options = SimulationOptions {
+        t_end: 0.5,
+        ..Default::default()
+    };
+    let mut trajectory = Trajectory::default();
+    let run = Simulation::new(&ball, &[0.0], &[1.0], options)
+        .unwrap()
+        .run(&mut trajectory);
+    assert_eq!(run.intervals[0].mode, Mode::Free);
+    assert!(relative(run.impact_times(0)[0], 2.0 / G) < 1e-9);
+}

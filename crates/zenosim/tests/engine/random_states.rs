@@ -96,11 +96,12 @@ fn a_start_on_a_surface_that_presses_is_a_contact_whatever_the_sign_of_the_round
             "α = {degrees}°: h = {:e} inside the circle",
             lowest.h
         );
-        // The circle carries it from the start: a chattering Zeno point at t = 0.
+        // The circle carries it from the start: held from t = 0 (issue 24), or, where the
+        // rounding of A q̇ is beyond its bound, a chattering Zeno point at t = 0.
         assert!(
-            run.zeno[0].t_switch < 1e-9,
+            run.zeno.iter().all(|z| z.t_switch < 1e-9),
             "α = {degrees}° (A q̇ = {normal:e}): {:?}",
-            run.zeno[0]
+            run.zeno
         );
         assert!(run
             .intervals
