@@ -14,14 +14,14 @@ mod contour;
 mod decimate;
 mod figure;
 mod plane_chart;
-mod record;
-mod scene;
+pub(crate) mod record;
+pub(crate) mod scene;
 mod sequences;
 mod style;
 mod svg;
 mod sweep_map;
 mod time_chart;
-mod trajectory_file;
+pub(crate) mod trajectory_file;
 mod work_precision;
 mod zeno_chart;
 

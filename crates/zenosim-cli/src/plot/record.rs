@@ -17,8 +17,14 @@ use super::trajectory_file::quote;
 pub struct Record {
     /// The model's name.
     pub model: String,
+    /// The model's description, if it has one.
+    #[serde(default)]
+    pub description: Option<String>,
     /// `finished`, `zeno_stalled` or `failed`.
     pub status: String,
+    /// What happened, in words.
+    #[serde(default)]
+    pub message: Option<String>,
     /// The coordinates' names.
     pub coordinates: Vec<String>,
     /// The velocities' names.
