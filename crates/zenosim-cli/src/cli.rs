@@ -454,8 +454,8 @@ const REPORT_HELP: &str = "The report, DIR/report.html, is one HTML file with ev
 (its script, its style and the run's data): it opens in a browser from the disk and fetches \
 nothing. It shows:
   the mechanism    drawn from the [drawing] section of DIR/model.toml (the model file the run
-                   wrote there, with the run's parameters), played in real time or slower,
-                   slowed down approaching each Zeno point; a scrubber with the events marked
+                   wrote there, with the run's parameters), played at a chosen speed (1× is
+                   real time) and slowed down approaching each Zeno point; a scrubber with the events marked
                    along it; the mode and the constraints held; the trace of a chosen point
   the plots        displacements, velocities and energy against time: zoom (wheel), pan
                    (drag), the values under the pointer, series switched on and off

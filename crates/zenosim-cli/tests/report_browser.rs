@@ -75,6 +75,34 @@ fn the_report_plays_in_a_browser() {
     let shots = screenshots_dir();
     let start = session.screenshot(&shots.join("report-start.png"));
 
+    // The plots: the wheel zooms in time, the pointer reads the values, a box hides a series.
+    let charts = session.script(
+        "const c = document.querySelector('.chart canvas'); const r = c.getBoundingClientRect(); \
+         const at = { clientX: r.left + r.width / 2, clientY: r.top + r.height / 2, bubbles: true }; \
+         c.dispatchEvent(new WheelEvent('wheel', Object.assign({ deltaY: -500, cancelable: true }, at))); \
+         c.dispatchEvent(new PointerEvent('pointermove', at)); \
+         document.querySelector('.chart .legend input').click(); \
+         return window.zenosimReport.charts();",
+        json!([]),
+    );
+    let first = &charts[0];
+    assert_eq!(first["name"], "Displacements");
+    let (x0, x1) = (
+        first["x"][0].as_f64().unwrap(),
+        first["x"][1].as_f64().unwrap(),
+    );
+    assert!(
+        x0 > 0.0 && x1 < 6.0 && x1 - x0 < 3.0,
+        "zoomed to [{x0}, {x1}]"
+    );
+    assert_eq!(first["on"], json!([false, true, true]));
+    let value = first["value"].as_str().unwrap();
+    assert!(value.contains("t = ") && value.contains("x2 = "), "{value}");
+    session.script(
+        "document.querySelector('.chart canvas').dispatchEvent(new MouseEvent('dblclick'));",
+        json!([]),
+    );
+
     // Played, the animation advances.
     let state = session.state();
     assert_eq!(state["t"].as_f64(), Some(0.0));

@@ -716,6 +716,13 @@
       }
       return out;
     },
+    // Each plot's name, time range shown, and which series are on.
+    charts: () => charts.map((c) => ({
+      name: c.group.name,
+      x: c.x.slice(),
+      on: c.group.series.map((s) => s.on),
+      value: c.value.textContent,
+    })),
     seek,
     play: () => setPlaying(true),
     pause: () => setPlaying(false),
