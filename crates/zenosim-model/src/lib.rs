@@ -33,6 +33,11 @@
 //! rtol = 1e-10
 //! atol = 1e-10
 //! zeno = "auto"                               # "auto" | "off" | { epsilon = 1e-3 }
+//!
+//! [drawing]                                   # optional: how the mechanism looks
+//! points = { contact = ["x2", "x3"] }         # formulas of t, the coordinates, the parameters
+//! surfaces = [{ constraint = "surface", curve = ["s", "sin(s)"], s = [-3.5, 2.5] }]
+//! circles = [{ at = "contact", radius = 0.06 }]
 //! ```
 //!
 //! The time `t` may appear in `lagrangian`, in `h`, in `zeno_reset`, in `[forces]` and in
@@ -45,10 +50,12 @@
 //! [`zenosim::HybridLagrangian`] (its formulas compiled once and evaluated over `f64` and
 //! dual numbers, so file models get exact derivatives), the initial state and the settings.
 //! Every mistake is a [`ModelError`] that names the file, the line and column or the key, and
-//! says what to do. The formula language is described in [`expr`].
+//! says what to do. The formula language is described in [`expr`]; the optional `[drawing]`
+//! becomes a [`Drawing`] (docs/drawing.md).
 
 #![warn(missing_docs)]
 
+mod drawing;
 mod error;
 pub mod expr;
 mod file_model;
@@ -57,6 +64,7 @@ mod load;
 mod property_tests;
 mod source;
 
+pub use drawing::{Drawing, DrawingError, Shape};
 pub use error::{Location, ModelError};
 pub use expr::Limits;
 pub use file_model::FileModel;

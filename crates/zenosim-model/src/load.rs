@@ -15,8 +15,10 @@ use crate::error::{did_you_mean, Lines, Location, ModelError};
 use crate::expr::{is_reserved, ExprError, Expression, Limits, Scope};
 use crate::file_model::{FileModel, Formula as ModelFormula};
 
+mod drawing;
+
 /// The keys a model file may have at its top level.
-const TOP_KEYS: [&str; 10] = [
+const TOP_KEYS: [&str; 11] = [
     "name",
     "description",
     "coordinates",
@@ -27,6 +29,7 @@ const TOP_KEYS: [&str; 10] = [
     "dissipation",
     "initial",
     "simulation",
+    "drawing",
 ];
 
 /// The formulas where the time `t` may appear, for messages.
@@ -117,6 +120,8 @@ pub struct ModelFile {
     pub initial: State,
     /// `[simulation]`.
     pub settings: Settings,
+    /// `[drawing]`, if the file has one.
+    pub drawing: Option<crate::Drawing>,
 }
 
 impl ModelFile {
@@ -287,6 +292,8 @@ enum Reads {
     Coordinates,
     /// Coordinates, velocities (slots `n..2n`), the time `t` (slot `2n`) and parameters.
     State,
+    /// What a drawing's points read: as [`Reads::Coordinates`], with messages about drawings.
+    Drawing,
 }
 
 /// The names a formula is parsed against.
@@ -337,7 +344,7 @@ impl Scope for Names<'_> {
         match self.reads {
             Reads::ParameterSlots => self.index.get(name).copied(),
             Reads::Constants => None,
-            Reads::Coordinates => self
+            Reads::Coordinates | Reads::Drawing => self
                 .coordinates
                 .iter()
                 .position(|c| c == name)
@@ -527,6 +534,13 @@ impl<'s> Cx<'s> {
             overrides,
         )?;
         let settings = self.settings(root, &names(Reads::Constants))?;
+        let constraint_names: Vec<String> = constraints.iter().map(|c| c.name.clone()).collect();
+        let drawing = self.drawing(
+            root,
+            &names(Reads::Drawing),
+            &names(Reads::Constants),
+            &constraint_names,
+        )?;
 
         let constraints = constraints
             .into_iter()
@@ -567,6 +581,28 @@ impl<'s> Cx<'s> {
                  library)",
             ));
         }
+        // The drawing's points are evaluated at every frame of an animation: their operations
+        // count against the same limit.
+        if let Some(drawing) = &drawing {
+            let limit = self.limits.max_operations as u64;
+            let used = compiled.operations_traced();
+            let needed = drawing.operations() as u64;
+            if used.saturating_add(needed) > limit {
+                let item = root.get("drawing").expect("the drawing is there");
+                return Err(self.at(
+                    item.span().start,
+                    "drawing",
+                    format!(
+                        "the drawing's points take {needed} operations to evaluate; with the \
+                         {used} that differentiating the model takes, that is more than the \
+                         limit of {limit} operations"
+                    ),
+                    "shorten the drawing's formulas or sample its curves at fewer points, or, \
+                     if it is right as it is, raise the limit: `zenosim run \
+                     --max-derivative-operations N` (Limits in the library)",
+                ));
+            }
+        }
         // A constant traced free motion is a parabola only where the forces it leaves out are
         // constant too.
         model.parabolic = compiled.constant_free_motion() && model.forces_are_constant();
@@ -579,6 +615,7 @@ impl<'s> Cx<'s> {
             parameters,
             initial,
             settings,
+            drawing,
         })
     }
 
@@ -699,6 +736,18 @@ impl<'s> Cx<'s> {
         names: &Names<'_>,
         what: &str,
     ) -> Result<Expression, ModelError> {
+        self.compile_in(formula, names, names, what)
+    }
+
+    /// [`Cx::compile`], with the names resolved through `scope` and errors described by
+    /// `names`.
+    fn compile_in(
+        &self,
+        formula: &Formula,
+        scope: &impl Scope,
+        names: &Names<'_>,
+        what: &str,
+    ) -> Result<Expression, ModelError> {
         let text = match &formula.body {
             Body::Number(v) => {
                 if !v.is_finite() {
@@ -714,7 +763,7 @@ impl<'s> Cx<'s> {
             }
             Body::Text(text) => text.clone(),
         };
-        Expression::parse_with(&text, names, &self.limits).map_err(|error| {
+        Expression::parse_with(&text, scope, &self.limits).map_err(|error| {
             let (message, help) = describe(&error, names, what);
             self.formula_error(
                 formula,
@@ -1799,6 +1848,10 @@ fn describe(error: &ExprError, names: &Names<'_>, what: &str) -> (String, String
     } else if is(names.velocities) && names.reads.rank() < Reads::State.rank() {
         let help = if names.reads == Reads::Coordinates {
             "a constraint h(q) depends on the coordinates only, not on velocities".to_string()
+        } else if names.reads == Reads::Drawing {
+            "a drawing shows positions: its points are formulas of the coordinates, the \
+             parameters and the time t, not of velocities"
+                .to_string()
         } else {
             "this value is a constant, fixed before the run: use numbers and parameters only"
                 .to_string()
@@ -1833,7 +1886,7 @@ impl Reads {
     fn rank(self) -> u8 {
         match self {
             Reads::ParameterSlots | Reads::Constants => 0,
-            Reads::Coordinates => 1,
+            Reads::Coordinates | Reads::Drawing => 1,
             Reads::State => 2,
         }
     }

@@ -158,6 +158,11 @@ impl Expression {
         self.slots.binary_search(&slot).is_ok()
     }
 
+    /// The number of instructions of the compiled program: the work of one evaluation.
+    pub fn operations(&self) -> usize {
+        self.code.len()
+    }
+
     /// The value, if the expression reads no name (it was folded into a single constant).
     pub fn constant_value(&self) -> Option<f64> {
         match *self.code {
