@@ -234,3 +234,113 @@ fn a_new_run_removes_the_old_report() {
         "a report of the previous run stays beside the new one"
     );
 }
+
+/// The paper's ball with a drawing that reads a parameter `lift` (the point `raised`).
+const DRAWING: &str = r#"
+[drawing]
+points = { contact = ["x2", "x3"], raised = ["x2", "x3 + lift"] }
+surfaces = [{ constraint = "surface", curve = ["s", "sin(s)"], s = [-4, 2], samples = 50 }]
+circles = [{ at = "contact", radius = 0.05 }]
+trace = "contact"
+"#;
+
+/// The paper's ball, its parameter `lift` 1, with [`DRAWING`] (and `tail` after it).
+fn drawn_ball(tail: &str) -> String {
+    let model = BALL_ON_SINE.replace("g = 9.81\n", "g = 9.81\nlift = 1.0\n");
+    format!("{model}{DRAWING}{tail}")
+}
+
+/// Runs `model` with `args`, puts the model file beside the run (as `zenosim run` leaves it)
+/// and writes the report; the scratch directory and the report's exit.
+fn report_of(model: &str, args: &[&str]) -> (Scratch, std::process::Output) {
+    let scratch = Scratch::new(model);
+    assert_exit(&scratch.run(args), 0);
+    std::fs::write(scratch.path("out/model.toml"), model).unwrap();
+    let output = scratch.zenosim(&["report", "out"]);
+    (scratch, output)
+}
+
+#[test]
+fn the_mechanism_is_drawn_at_every_frame_with_the_runs_parameters() {
+    let (scratch, output) = report_of(&drawn_ball(""), &["--set", "lift=2.5"]);
+    assert_exit(&output, 0);
+    let out = scratch.path("out");
+    let data = data(&out);
+    let mechanism = &data["mechanism"];
+    assert_eq!(data["note"], Value::Null);
+    assert_eq!(mechanism["dimension"], 2);
+    let names: Vec<&str> = mechanism["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_str().unwrap())
+        .collect();
+    assert_eq!(names.len(), 2 + 50);
+    assert_eq!(names[..3], ["contact", "raised", "surface#0"]);
+    assert_eq!(mechanism["trace"], 0);
+    // The surface's samples never move: given once; the two points move.
+    assert_eq!(mechanism["moving"], serde_json::json!([0, 1]));
+    let fixed = mechanism["fixed"].as_array().unwrap();
+    assert!(fixed[2..].iter().all(|p| p.is_array()));
+    let (s, y) = (fixed[2][0].as_f64().unwrap(), fixed[2][1].as_f64().unwrap());
+    assert!((s + 4.0).abs() < 1e-6 && (y - s.sin()).abs() < 1e-6);
+
+    let frames = numbers(&data["frames"]["t"]);
+    let q = numbers(&data["frames"]["q"]);
+    let positions = numbers(&mechanism["positions"]);
+    assert_eq!(positions.len(), frames.len() * 2 * 2);
+    for (k, t) in frames.iter().enumerate() {
+        let (x2, x3) = (q[3 * k + 1], q[3 * k + 2]);
+        let p = &positions[4 * k..4 * k + 4];
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * (1.0 + b.abs());
+        assert!(close(p[0], x2) && close(p[1], x3), "contact at t = {t}");
+        // `lift` is the run's (--set lift=2.5), not the file's 1.
+        assert!(
+            close(p[3], x3 + 2.5),
+            "raised at t = {t}: {} vs {}",
+            p[3],
+            x3
+        );
+    }
+    // At the Zeno point's switch (its last row) the contact point is on the surface.
+    let t_switch = summary(&out)["zeno"][0]["t_switch"].as_f64().unwrap();
+    let k = frames.iter().rposition(|&t| t == t_switch).unwrap();
+    let (x, y) = (positions[4 * k], positions[4 * k + 1]);
+    assert!((y - x.sin()).abs() < 1e-6, "({x}, {y})");
+}
+
+#[test]
+fn a_drawing_that_is_not_finite_along_the_run_is_refused_naming_it() {
+    // x3 − 2 is 0 at the start: the point `pole` is infinite there.
+    let model = drawn_ball("").replace(
+        "raised = [\"x2\", \"x3 + lift\"]",
+        "raised = [\"x2\", \"x3 + lift\"], pole = [\"x2\", \"1/(x3 - 2)\"]",
+    );
+    let (scratch, output) = report_of(&model, &[]);
+    assert_exit(&output, 2);
+    let error = stderr(&output);
+    assert!(
+        error.contains("out/model.toml: ") && error.contains("`pole`") && error.contains("t = 0"),
+        "{error}"
+    );
+    assert!(!scratch.path("out/report.html").exists());
+}
+
+#[test]
+fn a_three_dimensional_drawing_is_projected_on_x_y() {
+    let model = drawn_ball("").replace(
+        "[drawing]\npoints = { contact = [\"x2\", \"x3\"], raised = [\"x2\", \"x3 + lift\"] }\n\
+         surfaces = [{ constraint = \"surface\", curve = [\"s\", \"sin(s)\"], s = [-4, 2], samples = 50 }]",
+        "[drawing]\npoints = { contact = [\"x2\", \"x3\", \"x1\"], raised = [\"x2\", \"x3 + lift\", 0] }",
+    );
+    assert!(model.contains("\"x1\"]"), "{model}");
+    let (scratch, output) = report_of(&model, &[]);
+    assert_exit(&output, 0);
+    let data = data(&scratch.path("out"));
+    assert_eq!(data["mechanism"]["dimension"], 3);
+    let frames = numbers(&data["frames"]["t"]).len();
+    assert_eq!(
+        numbers(&data["mechanism"]["positions"]).len(),
+        frames * 2 * 2
+    );
+}

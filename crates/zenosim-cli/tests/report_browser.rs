@@ -22,22 +22,12 @@ use serde_json::{json, Value};
 const CHROMIUM: &str = "/usr/bin/chromium";
 const CHROMEDRIVER: &str = "/usr/bin/chromedriver";
 
-/// The paper's ball with a drawing: the ball at (x2, x3) over the surface x3 = sin(x2).
-const DRAWN_BALL: &str = r#"
-
-[drawing]
-points = { ball = ["x2", "x3"] }
-trace = "ball"
-
-[[drawing.shape]]
-circle = "ball"
-radius = 0.08
-
-[[drawing.shape]]
-surface = "surface"
-from = -4.5
-to = 2.0
-"#;
+/// The paper's ball as shipped, with its drawing: the ball touching the surface x3 = sin(x2)
+/// at the point `contact` = (x2, x3).
+fn paper_ball() -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/ball-on-sine.toml");
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
 
 #[test]
 fn the_report_plays_in_a_browser() {
@@ -45,11 +35,13 @@ fn the_report_plays_in_a_browser() {
         return;
     }
     let started = Instant::now();
-    let scratch = Scratch::new(BALL_ON_SINE);
-    let _ = DRAWN_BALL;
-    let output = scratch.run(&["--report"]);
-    assert_exit(&output, 0);
+    let model = paper_ball();
+    let scratch = Scratch::new(&model);
+    assert_exit(&scratch.run(&[]), 0);
     let out = scratch.path("out");
+    // The model file beside the run, as `zenosim run` leaves it.
+    std::fs::write(out.join("model.toml"), &model).expect("model.toml is written");
+    assert_exit(&scratch.zenosim(&["report", "out"]), 0);
     let summary = summary(&out);
     let t_switch = summary["zeno"][0]["t_switch"]
         .as_f64()
@@ -120,24 +112,24 @@ fn the_report_plays_in_a_browser() {
     assert_eq!(session.state()["playing"], json!(false));
 
     // Before the first impact the ball is well above the surface.
-    let ball = |state: &Value| {
+    let contact = |state: &Value| {
         let names = state["names"].as_array().expect("the drawing's points");
-        let k = names.iter().position(|n| n == "ball").expect("the ball");
+        let k = names
+            .iter()
+            .position(|n| n == "contact")
+            .expect("the contact point");
         let p = &state["points"][k];
         (p[0].as_f64().unwrap(), p[1].as_f64().unwrap())
     };
     let state = session.scrub(first_impact - 0.2);
-    let _ = ball;
-    eprintln!("{state}");
+    let (x, y) = contact(&state);
+    assert!(y - x.sin() > 0.05, "before the first impact: {x}, {y}");
 
     // The scrubber moved to the Zeno point: the ball on the surface, the constraint held.
     let state = session.scrub(t_switch);
     assert!((state["t"].as_f64().unwrap() - t_switch).abs() < 1e-12);
     assert_eq!(state["held"], json!(["surface"]));
-    let (x, y) = (
-        state["q"][1].as_f64().unwrap(),
-        state["q"][2].as_f64().unwrap(),
-    );
+    let (x, y) = contact(&state);
     assert!(
         (y - x.sin()).abs() < 1e-6,
         "the ball at ({x}, {y}), {} from the surface",

@@ -8,44 +8,7 @@ use anyhow::anyhow;
 use serde::Serialize;
 use serde_json::{json, Value};
 use zenosim::HybridLagrangian;
-use zenosim_model::{Limits, Override};
-pub struct Drawing;
-#[allow(dead_code)]
-pub enum Shape {
-    Segment {
-        from: usize,
-        to: usize,
-    },
-    Polyline {
-        points: Vec<usize>,
-        closed: bool,
-    },
-    Circle {
-        center: usize,
-        radius: f64,
-    },
-    Surface {
-        constraint: usize,
-        points: Vec<usize>,
-    },
-}
-impl Drawing {
-    fn points(&self) -> &[String] {
-        &[]
-    }
-    fn dimension(&self) -> usize {
-        2
-    }
-    fn shapes(&self) -> &[Shape] {
-        &[]
-    }
-    fn trace(&self) -> Option<usize> {
-        None
-    }
-    fn evaluate(&self, _: f64, _: &[f64], _: &mut [f64]) -> Result<(), String> {
-        Ok(())
-    }
-}
+use zenosim_model::{Drawing, Limits, Override, Shape};
 
 use super::frames::Frames;
 use crate::plot::record::Record;
@@ -118,8 +81,7 @@ pub fn load(dir: &Path, record: &Record) -> anyhow::Result<Result<Drawing, Strin
     } else {
         parse(&overrides)?
     };
-    let _ = file;
-    Ok(None::<Drawing>.ok_or_else(|| {
+    Ok(file.drawing.ok_or_else(|| {
         "No mechanism: the model file has no [drawing] section. Add one (see docs/drawing.md: \
          points as formulas of the coordinates, and the segments, circles and surfaces between \
          them) and run the model again to see it move."
@@ -127,8 +89,8 @@ pub fn load(dir: &Path, record: &Record) -> anyhow::Result<Result<Drawing, Strin
     }))
 }
 
-/// `drawing` evaluated at every frame; an error names the model file and the time.
-pub fn draw(drawing: &Drawing, frames: &Frames) -> anyhow::Result<Drawn> {
+/// `drawing` evaluated at every frame; an error names the model file (in `dir`) and the time.
+pub fn draw(drawing: &Drawing, frames: &Frames, dir: &Path) -> anyhow::Result<Drawn> {
     let count = drawing.points().len();
     let dimension = drawing.dimension();
     let mut out = vec![0.0; count * dimension];
@@ -139,8 +101,9 @@ pub fn draw(drawing: &Drawing, frames: &Frames) -> anyhow::Result<Drawn> {
             .evaluate(frames.t[k], frames.q(k), &mut out)
             .map_err(|error| {
                 anyhow!(
-                    "{MODEL}: {error}; change the drawing's formulas so that they are finite \
-                     all along the run"
+                    "{}: {error}; change the drawing's formulas so that they are finite all \
+                     along the run",
+                    dir.join(MODEL).display()
                 )
             })?;
         for p in 0..count {

@@ -60,7 +60,7 @@ pub fn write(dir: &Path) -> Result<PathBuf, Failure> {
         .bad_input();
     }
     let drawn = match drawing {
-        Ok(drawing) => Ok(mechanism::draw(&drawing, &frames).bad_input()?),
+        Ok(drawing) => Ok(mechanism::draw(&drawing, &frames, dir).bad_input()?),
         Err(note) => Err(note),
     };
     let data = data::Data::new(&record, &trajectory, &frames, drawn);
