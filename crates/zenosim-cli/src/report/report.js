@@ -730,6 +730,9 @@
     span: data.span,
   };
 
+  // A link to a time: report.html#t=2.04 opens there.
+  const linked = /^#t=([-+0-9.eE]+)$/.exec(window.location.hash);
+  if (linked && isFinite(Number(linked[1]))) time = Math.min(Math.max(Number(linked[1]), tStart), tEnd);
   render();
   if (window.zenosimErrors.length) {
     $("errors").hidden = false;
