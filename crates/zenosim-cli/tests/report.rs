@@ -344,3 +344,27 @@ fn a_three_dimensional_drawing_is_projected_on_x_y() {
         frames * 2 * 2
     );
 }
+
+#[test]
+fn a_state_that_is_not_finite_keeps_the_last_drawing() {
+    // A run that diverged: its last row's x3 is NaN.
+    let model = drawn_ball("");
+    let scratch = Scratch::new(&model);
+    assert_exit(&scratch.run(&["--t-end", "1"]), 0);
+    let out = scratch.path("out");
+    std::fs::write(out.join("model.toml"), &model).unwrap();
+    let path = out.join("trajectory.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let last = lines.pop().unwrap();
+    let mut fields: Vec<&str> = last.split(',').collect();
+    fields[4] = "NaN";
+    lines.push(fields.join(","));
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    let output = scratch.zenosim(&["report", "out"]);
+    assert_exit(&output, 0);
+    let data = data(&out);
+    let positions = numbers(&data["mechanism"]["positions"]);
+    let n = positions.len();
+    assert_eq!(positions[n - 4..], positions[n - 8..n - 4]);
+}

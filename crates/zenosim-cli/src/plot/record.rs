@@ -146,7 +146,7 @@ impl Record {
         let display = path.display();
         let file = File::open(path).with_context(|| {
             format!(
-                "cannot read {display}: plot a directory that `zenosim run` wrote (it writes \
+                "cannot read {display}: give a directory that `zenosim run` wrote (it writes \
                  summary.json last, once the run is complete)"
             )
         })?;

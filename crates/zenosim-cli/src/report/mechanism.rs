@@ -97,6 +97,15 @@ pub fn draw(drawing: &Drawing, frames: &Frames, dir: &Path) -> anyhow::Result<Dr
     // x, y of every point at every frame.
     let mut all = Vec::with_capacity(frames.len() * count * 2);
     for k in 0..frames.len() {
+        // A state that is not finite (a run that diverged) keeps the last drawing.
+        if !frames.q(k).iter().all(|q| q.is_finite()) {
+            let last = all.len().saturating_sub(2 * count);
+            match k {
+                0 => all.extend(std::iter::repeat_n(0.0, 2 * count)),
+                _ => all.extend_from_within(last..last + 2 * count),
+            }
+            continue;
+        }
         drawing
             .evaluate(frames.t[k], frames.q(k), &mut out)
             .map_err(|error| {
