@@ -111,6 +111,19 @@ fn the_report_plays_in_a_browser() {
     session.click("#play");
     assert_eq!(session.state()["playing"], json!(false));
 
+    // Near the Zeno point it slows down: 0.1 s before it, 0.6 s of play at real speed do not
+    // reach it (the last 0.25 s before it take about 3 s).
+    let before = t_switch - 0.1;
+    session.script("window.zenosimReport.seek(arguments[0]);", json!([before]));
+    session.click("#play");
+    std::thread::sleep(Duration::from_millis(600));
+    let t = session.state()["t"].as_f64().unwrap();
+    session.click("#play");
+    assert!(
+        t > before && t < t_switch,
+        "t = {t}, the Zeno point at {t_switch}"
+    );
+
     // Before the first impact the ball is well above the surface.
     let contact = |state: &Value| {
         let names = state["names"].as_array().expect("the drawing's points");
