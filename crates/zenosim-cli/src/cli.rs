@@ -39,6 +39,7 @@ directory; characters of the name other than letters, digits, '-', '_' and '.' b
   summary.json    the outcome, the final state, the Zeno points, the events, the hybrid time
                   domain, the work counters and the constraints' formulas h (non-finite numbers
                   are written as null)
+  model.toml      the model file's text, as read (`zenosim animate DIR` draws it)
 DIR is locked while the run writes into it: a second zenosim writing into DIR fails at once.
 Each file is written to a temporary name of its own (.<file>.<pid>-<n>.partial, created
 exclusively: never through a symlink) and renamed when complete, at the end of the run: until
@@ -70,6 +71,9 @@ interrupted by Ctrl-C (SIGTERM)."
     /// interactive, the events and the Zeno points, in one file that works offline.
     #[command(after_help = REPORT_HELP)]
     Report(ReportArgs),
+    /// Animate a run's mechanism, as its model's [drawing] shows it, into a GIF file.
+    #[command(after_help = ANIMATE_HELP)]
+    Animate(AnimateArgs),
     /// Run a model at every point of a grid of parameters or initial values, in parallel, and
     /// write one row per run (CSV): its status, impacts, Zeno time and final state.
     #[command(after_help = SWEEP_HELP)]
@@ -393,6 +397,14 @@ impl ModelInput {
     pub fn load(&self, formulas: &FormulaLimits) -> anyhow::Result<zenosim_model::ModelFile> {
         crate::input::load(&self.model, &self.sets, formulas.limits())
     }
+
+    /// [`ModelInput::load`], with the file's text.
+    pub fn load_with_source(
+        &self,
+        formulas: &FormulaLimits,
+    ) -> anyhow::Result<(zenosim_model::ModelFile, String)> {
+        crate::input::load_with_source(&self.model, &self.sets, formulas.limits())
+    }
 }
 
 /// How long and how deep a model file's formulas may be, and how much work differentiating
@@ -492,6 +504,95 @@ pub struct PlotArgs {
     /// coordinate and its velocity].
     #[arg(long, value_name = "X,Y", value_parser = parse_plane)]
     pub plane: Option<Plane>,
+}
+
+/// What `zenosim animate --help` says of the file and the exit status.
+const ANIMATE_HELP: &str = "The model is read from DIR/model.toml (which `zenosim run` writes \
+beside its results) with the parameters of DIR/summary.json, so that the run's --set values \
+hold; a folder written before model.toml existed needs --model MODEL.toml. The model needs a \
+[drawing] section (docs/drawing.md). The trajectory is sampled every --speed/--fps seconds of \
+simulated time, linearly between its rows (never across an event), each frame showing the \
+drawing at that time, its time and mode in the top left corner, the surfaces of the \
+constraints held in colour and the path of the drawing's trace point so far. The box is fixed \
+over the whole run, with equal scales in x and y (a drawing in space is seen from above its x, \
+y plane). A run longer than --max-frames frames is sampled more coarsely to fit, and the report \
+says at what speed it then plays. The GIF is written to a temporary name \
+(.<file>.<pid>-<n>.partial) and renamed when complete.
+
+Exit status: 0 written; 1 the file could not be written; 2 DIR is not a complete run, the model \
+is invalid or has no [drawing], or bad arguments.";
+
+/// `zenosim animate`.
+#[derive(Debug, Args)]
+pub struct AnimateArgs {
+    /// The output directory of a run (`zenosim run --out DIR`, by default out/<model name>).
+    #[arg(value_name = "DIR")]
+    pub dir: PathBuf,
+
+    /// The GIF file to write.
+    #[arg(long, value_name = "FILE.gif")]
+    pub out: PathBuf,
+
+    /// The model file, for a run folder without model.toml (written by an older zenosim).
+    #[arg(long, value_name = "MODEL.toml")]
+    pub model: Option<PathBuf>,
+
+    /// Frames per second of the animation.
+    #[arg(long, value_name = "N", default_value_t = 25,
+          value_parser = clap::value_parser!(u32).range(1..=50))]
+    pub fps: u32,
+
+    /// Simulated seconds per second of animation: 1 plays in real time; the default, half
+    /// speed, gives the bounces of a ball near its Zeno point twice as many frames.
+    #[arg(long, value_name = "X", default_value_t = 0.5, value_parser = parse_speed)]
+    pub speed: f64,
+
+    /// The most frames written.
+    #[arg(long, value_name = "N", default_value_t = 600,
+          value_parser = clap::value_parser!(u32).range(2..=10_000))]
+    pub max_frames: u32,
+
+    /// The frames' size in pixels, WIDTHxHEIGHT (each from 64 to 2000).
+    #[arg(long, value_name = "WxH", default_value = "640x480", value_parser = parse_frame_size)]
+    pub size: FrameSize,
+
+    /// Bounds on the model file's formulas.
+    #[command(flatten)]
+    pub formulas: FormulaLimits,
+}
+
+/// A frame's size in pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FrameSize {
+    /// Pixels across.
+    pub width: u32,
+    /// Pixels down.
+    pub height: u32,
+}
+
+fn parse_frame_size(text: &str) -> Result<FrameSize, String> {
+    let bad =
+        || format!("`{text}` is not WIDTHxHEIGHT with each from 64 to 2000: write e.g. 640x480");
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if !(64..=2000).contains(&w) || !(64..=2000).contains(&h) {
+        return Err(bad());
+    }
+    Ok(FrameSize {
+        width: w,
+        height: h,
+    })
+}
+
+fn parse_speed(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        _ => Err(format!(
+            "`{text}` is not a speed: give simulated seconds per second, > 0 (1 is real time, \
+             0.1 ten times slower)"
+        )),
+    }
 }
 
 /// `zenosim check`.

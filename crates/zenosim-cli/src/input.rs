@@ -9,10 +9,20 @@ use zenosim_model::{Limits, ModelFile, Override, ReadError};
 /// Reads `path` ([`zenosim_model::read_source`]) and parses it with `overrides` applied, its
 /// formulas bounded by `limits`. Every error names the file.
 pub fn load(path: &Path, overrides: &[Override], limits: Limits) -> anyhow::Result<ModelFile> {
+    load_with_source(path, overrides, limits).map(|(file, _)| file)
+}
+
+/// [`load`], with the file's text (which `zenosim run` keeps beside its results).
+pub fn load_with_source(
+    path: &Path,
+    overrides: &[Override],
+    limits: Limits,
+) -> anyhow::Result<(ModelFile, String)> {
     let display = path.display().to_string();
     let source = read_source(path, &display)?;
-    zenosim_model::parse_model_with(&display, &source, overrides, limits)
-        .map_err(|error| anyhow!(error))
+    let file = zenosim_model::parse_model_with(&display, &source, overrides, limits)
+        .map_err(|error| anyhow!(error))?;
+    Ok((file, source))
 }
 
 /// The text of the model file `path` (named `display` in messages): at most

@@ -93,6 +93,7 @@ pub fn main() -> ExitCode {
         Command::Check(args) => check::check(&args),
         Command::Plot(args) => plot::plot(&args),
         Command::Report(args) => report::report(&args),
+        Command::Animate(args) => plot::animate(&args),
         Command::Bench(args) => bench::bench(&args),
         Command::WorkPrecision(args) => plot::work_precision(&args),
     };

@@ -32,6 +32,8 @@ use crate::{
 pub const TRAJECTORY: &str = "trajectory.csv";
 /// The summary's file name.
 pub const SUMMARY: &str = "summary.json";
+/// The name of the model file's copy, kept beside the results (`zenosim animate` reads it).
+pub const MODEL: &str = "model.toml";
 /// The summary's levels written one entry per line: the top level and the lists in it (one
 /// event per line).
 const SUMMARY_INDENT: usize = 2;
@@ -47,7 +49,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         ))
         .bad_input();
     }
-    let file = args.input.load(&args.formulas).bad_input()?;
+    let (file, source) = args.input.load_with_source(&args.formulas).bad_input()?;
     if let Some(plane) = &args.plane {
         let names: Vec<String> = file
             .model
@@ -124,6 +126,13 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     summary.status = status;
     let balance = summary.energy_balance;
     let summary_finished = write_summary(&out, &summary)?;
+    // The model file as it was read, so that the folder says what was run.
+    let (model_partial, mut model_file) = out.create(MODEL).output()?;
+    model_file
+        .write_all(source.as_bytes())
+        .with_context(|| format!("cannot write {}", model_partial.target().display()))
+        .output()?;
+    let model_finished = model_partial.finish(model_file).output()?;
 
     // Both files are complete. The previous run's plots go, then its summary, and the
     // trajectory and the summary take their final names, back to back, the summary last: a
@@ -133,7 +142,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     signals::committing(|| {
         out.remove(plot::plot_files())?;
         out.remove([report::REPORT.to_string()])?;
-        out.replace(SUMMARY, [csv_finished, summary_finished])
+        out.replace(SUMMARY, [csv_finished, model_finished, summary_finished])
     })
     .output()?;
 
@@ -149,7 +158,11 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     } else {
         Ok(None)
     };
-    let mut files = vec![(out.path(TRAJECTORY), Some(rows)), (summary_path, None)];
+    let mut files = vec![
+        (out.path(TRAJECTORY), Some(rows)),
+        (out.path(MODEL), None),
+        (summary_path, None),
+    ];
     files.extend(plots.iter().flatten().map(|path| (path.clone(), None)));
     files.extend(
         report_file

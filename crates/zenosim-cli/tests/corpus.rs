@@ -272,7 +272,7 @@ fn a_run_that_fails_keeps_everything_up_to_the_failure() {
         // No temporary file is left.
         assert_eq!(
             files(&scratch.path("out")),
-            ["summary.json", "trajectory.csv"],
+            ["model.toml", "summary.json", "trajectory.csv"],
             "{name}"
         );
     }

@@ -240,7 +240,8 @@ fn a_kill_loop_leaves_the_earlier_run_or_a_complete_one_never_a_mix() {
             .filter(|name| !name.starts_with('.'))
             .collect();
         visible.retain(|name| name != "summary.json");
-        assert_eq!(visible, ["trajectory.csv"], "{context}");
+        // The model's copy is renamed with the trajectory, each over the previous run's.
+        assert_eq!(visible, ["model.toml", "trajectory.csv"], "{context}");
         let unchanged = after == before;
         let held = check(&out, &after, &t_ends);
 
@@ -305,7 +306,10 @@ fn a_kill_loop_leaves_the_earlier_run_or_a_complete_one_never_a_mix() {
 
     // The next run removes whatever a killed one left, and completes.
     assert_exit(&scratch.run(&RUN[4..]), 0);
-    assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
+    assert_eq!(
+        files(&out),
+        ["model.toml", "summary.json", "trajectory.csv"]
+    );
     assert_eq!(check(&out, &Files::read(&out), &t_ends), Held::Finished);
     eprintln!("a run to t = {T_END}: {full:?} (median of 3)");
     for ((signal, what), count) in &seen {

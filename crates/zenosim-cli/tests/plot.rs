@@ -142,7 +142,7 @@ fn run_plot_draws_the_papers_figure_5() {
     assert_exit(&output, 0);
     let out = scratch.path("out");
     let mut expected: Vec<String> = PLOTS.iter().map(|p| format!("{p}.svg")).collect();
-    expected.extend(["summary.json".to_string(), "trajectory.csv".to_string()]);
+    expected.extend(["model.toml", "summary.json", "trajectory.csv"].map(String::from));
     expected.sort();
     assert_eq!(files(&out), expected, "every plot, no temporary file");
     let report = stdout(&output);
@@ -459,13 +459,13 @@ fn a_rerun_without_plot_removes_the_old_plots() {
     assert_exit(&scratch.run(&["--plot", "--format", "png"]), 0);
     assert_eq!(
         files(&scratch.path("out")).len(),
-        2 + 6,
+        3 + 6,
         "the SVGs are gone"
     );
     assert_exit(&scratch.run(&[]), 0);
     assert_eq!(
         files(&scratch.path("out")),
-        ["summary.json", "trajectory.csv"]
+        ["model.toml", "summary.json", "trajectory.csv"]
     );
 }
 
@@ -648,7 +648,7 @@ fn a_directory_without_a_run_is_refused_naming_the_file() {
     assert!(err.contains("out/trajectory.csv"), "{err}");
     assert_eq!(
         files(&scratch.path("out")),
-        ["summary.json"],
+        ["model.toml", "summary.json"],
         "nothing is written"
     );
 }
@@ -691,7 +691,7 @@ fn a_malformed_trajectory_names_its_line() {
     );
     assert_eq!(
         files(&scratch.path("out")),
-        ["summary.json", "trajectory.csv"]
+        ["model.toml", "summary.json", "trajectory.csv"]
     );
 }
 
@@ -718,7 +718,7 @@ fn bad_plot_arguments_are_refused_before_anything_is_written() {
     plot_refused(&scratch, &["out", "--format", "gif"]);
     assert_eq!(
         files(&scratch.path("out")),
-        ["summary.json", "trajectory.csv"]
+        ["model.toml", "summary.json", "trajectory.csv"]
     );
 
     // `run`: checked before the output directory is touched.
@@ -751,7 +751,7 @@ fn a_plot_that_cannot_be_written_is_exit_1_and_leaves_no_partial_file() {
     assert!(err.contains("figure.svg"), "{err}");
     assert_eq!(
         files(&scratch.path("out")),
-        ["summary.json", "trajectory.csv"]
+        ["model.toml", "summary.json", "trajectory.csv"]
     );
 }
 

@@ -83,10 +83,7 @@ fn run_report_writes_the_page_of_the_run() {
     // No drawing in this model: the page says how to add one.
     assert_eq!(data["mechanism"], Value::Null);
     let note = data["note"].as_str().unwrap();
-    assert!(
-        note.contains("[drawing]") || note.contains("no model.toml"),
-        "{note}"
-    );
+    assert!(note.contains("no [drawing]"), "{note}");
     let bytes = size(&out);
     assert!(bytes < 1_000_000, "{bytes} bytes");
     eprintln!("the paper's ball: report.html of {bytes} bytes");
@@ -105,9 +102,6 @@ fn run_report_writes_the_page_of_the_run() {
             "summary.json",
             "trajectory.csv"
         ]
-        .into_iter()
-        .filter(|f| *f != "model.toml" || out.join("model.toml").exists())
-        .collect::<Vec<_>>()
     );
 }
 
@@ -250,12 +244,11 @@ fn drawn_ball(tail: &str) -> String {
     format!("{model}{DRAWING}{tail}")
 }
 
-/// Runs `model` with `args`, puts the model file beside the run (as `zenosim run` leaves it)
-/// and writes the report; the scratch directory and the report's exit.
+/// Runs `model` with `args` (which keeps the model file beside the run) and writes the report;
+/// the scratch directory and the report's exit.
 fn report_of(model: &str, args: &[&str]) -> (Scratch, std::process::Output) {
     let scratch = Scratch::new(model);
     assert_exit(&scratch.run(args), 0);
-    std::fs::write(scratch.path("out/model.toml"), model).unwrap();
     let output = scratch.zenosim(&["report", "out"]);
     (scratch, output)
 }
@@ -352,7 +345,6 @@ fn a_state_that_is_not_finite_keeps_the_last_drawing() {
     let scratch = Scratch::new(&model);
     assert_exit(&scratch.run(&["--t-end", "1"]), 0);
     let out = scratch.path("out");
-    std::fs::write(out.join("model.toml"), &model).unwrap();
     let path = out.join("trajectory.csv");
     let text = std::fs::read_to_string(&path).unwrap();
     let mut lines: Vec<String> = text.lines().map(str::to_string).collect();

@@ -35,13 +35,9 @@ fn the_report_plays_in_a_browser() {
         return;
     }
     let started = Instant::now();
-    let model = paper_ball();
-    let scratch = Scratch::new(&model);
-    assert_exit(&scratch.run(&[]), 0);
+    let scratch = Scratch::new(&paper_ball());
+    assert_exit(&scratch.run(&["--report"]), 0);
     let out = scratch.path("out");
-    // The model file beside the run, as `zenosim run` leaves it.
-    std::fs::write(out.join("model.toml"), &model).expect("model.toml is written");
-    assert_exit(&scratch.zenosim(&["report", "out"]), 0);
     let summary = summary(&out);
     let t_switch = summary["zeno"][0]["t_switch"]
         .as_f64()

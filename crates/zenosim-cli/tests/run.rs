@@ -16,7 +16,7 @@ fn a_run_writes_a_complete_trajectory_and_summary() {
     let out = scratch.path("out");
     assert_eq!(
         files(&out),
-        ["summary.json", "trajectory.csv"],
+        ["model.toml", "summary.json", "trajectory.csv"],
         "no temporary file is left"
     );
 
@@ -284,7 +284,7 @@ fn zeno_off_stalls_at_the_zeno_point_with_exit_3() {
     assert!(csv.rows.iter().all(|r| r.mode == "free"));
     assert_eq!(
         files(&scratch.path("out")),
-        ["summary.json", "trajectory.csv"]
+        ["model.toml", "summary.json", "trajectory.csv"]
     );
 }
 
@@ -387,7 +387,10 @@ fn a_failing_run_keeps_what_it_computed_with_exit_1() {
     assert!(err.starts_with("error: "), "{err}");
     assert!(err.contains("limit"), "{err}");
     let out = scratch.path("out");
-    assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
+    assert_eq!(
+        files(&out),
+        ["model.toml", "summary.json", "trajectory.csv"]
+    );
     let s = summary(&out);
     assert_eq!(s["status"], "failed");
     assert!(
@@ -419,7 +422,10 @@ fn the_default_output_directory_is_out_slash_the_model_name() {
     let output = scratch.zenosim(&["run", "model.toml", "--t-end", "0.1"]);
     assert_exit(&output, 0);
     let dir = scratch.path("out/ball-on-sine");
-    assert_eq!(files(&dir), ["summary.json", "trajectory.csv"]);
+    assert_eq!(
+        files(&dir),
+        ["model.toml", "summary.json", "trajectory.csv"]
+    );
     assert!(stdout(&output).contains("out/ball-on-sine/trajectory.csv"));
 }
 
@@ -434,7 +440,7 @@ fn a_rerun_replaces_the_files() {
     assert_eq!(csv.rows.last().unwrap().t, 0.3);
     assert_eq!(
         files(&scratch.path("out")),
-        ["summary.json", "trajectory.csv"]
+        ["model.toml", "summary.json", "trajectory.csv"]
     );
 }
 
@@ -486,7 +492,10 @@ fn the_output_cap_stops_the_run_keeping_its_rows_and_saying_what_to_do() {
     assert!(started.elapsed().as_secs() < 30, "{:?}", started.elapsed());
     assert_exit(&output, 1);
     let out = scratch.path("out");
-    assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
+    assert_eq!(
+        files(&out),
+        ["model.toml", "summary.json", "trajectory.csv"]
+    );
 
     let cap = 100 * 1024;
     let text = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
@@ -567,7 +576,10 @@ fn symlinks_planted_in_the_output_directory_are_never_followed() {
     }
     assert_exit(&scratch.run(&[]), 0);
     assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
-    assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
+    assert_eq!(
+        files(&out),
+        ["model.toml", "summary.json", "trajectory.csv"]
+    );
     let csv = std::fs::symlink_metadata(out.join("trajectory.csv")).unwrap();
     assert!(csv.file_type().is_file());
 }
@@ -661,10 +673,13 @@ fn a_killed_run_leaves_the_previous_results_as_they_were() {
     assert_eq!(read("summary.json"), old_summary);
     assert_eq!(read("trajectory.csv"), old_csv);
     assert_eq!(partials(&out).len(), 1, "{:?}", files(&out));
-    assert_eq!(files(&out).len(), 3, "{:?}", files(&out));
+    assert_eq!(files(&out).len(), 4, "{:?}", files(&out));
     // The next run completes and removes the killed run's temporary file.
     assert_exit(&scratch.run(&["--t-end", "0.2"]), 0);
-    assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
+    assert_eq!(
+        files(&out),
+        ["model.toml", "summary.json", "trajectory.csv"]
+    );
     assert_eq!(summary(&out)["final"]["t"], 0.2);
 }
 
@@ -706,7 +721,7 @@ fn sigint_and_sigterm_keep_the_run_computed_so_far() {
         let out = scratch.path("out");
         assert_eq!(
             files(&out),
-            ["summary.json", "trajectory.csv"],
+            ["model.toml", "summary.json", "trajectory.csv"],
             "SIG{signal}"
         );
         let s = summary(&out);
@@ -735,7 +750,10 @@ fn a_second_sigint_stops_at_once_leaving_no_temporary_file() {
     send(&child, "INT");
     send(&child, "INT");
     assert_eq!(exit_within_a_minute(&mut child), Some(130));
-    assert_eq!(files(&out), ["summary.json", "trajectory.csv"]);
+    assert_eq!(
+        files(&out),
+        ["model.toml", "summary.json", "trajectory.csv"]
+    );
     let s = summary(&out);
     let now = std::fs::read(out.join("summary.json")).unwrap();
     assert!(now == old_summary || s["status"] == "interrupted");

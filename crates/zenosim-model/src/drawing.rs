@@ -168,6 +168,56 @@ impl Drawing {
             .sum()
     }
 
+    /// Point `k`'s position at time `t` and coordinates `q`, into `out[..dimension]`: what
+    /// [`Drawing::evaluate`] gives it, at the cost of that point alone (a trace followed at
+    /// every row of a trajectory).
+    ///
+    /// # Panics
+    ///
+    /// If `k` is not a point's index.
+    pub fn evaluate_point(
+        &self,
+        k: usize,
+        t: f64,
+        q: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), DrawingError> {
+        let n = self.coordinates;
+        if q.len() != n {
+            return Err(DrawingError::Length {
+                what: "coordinates",
+                expected: n,
+                got: q.len(),
+            });
+        }
+        if out.len() < self.dimension {
+            return Err(DrawingError::Length {
+                what: "output values",
+                expected: self.dimension,
+                got: out.len(),
+            });
+        }
+        let point = self.points[k];
+        let mut vars = vec![0.0; 2 * n + 2];
+        vars[..n].copy_from_slice(q);
+        vars[2 * n] = t;
+        vars[2 * n + 1] = point.s;
+        let formulas = &self.formulas[point.first..point.first + self.dimension];
+        for (j, (formula, slot)) in formulas.iter().zip(out.iter_mut()).enumerate() {
+            let value: f64 = formula.eval(&vars);
+            if !value.is_finite() {
+                return Err(DrawingError::NotFinite {
+                    point: self.names[k].clone(),
+                    axis: j,
+                    value,
+                    t,
+                });
+            }
+            *slot = value;
+        }
+        Ok(())
+    }
+
     /// Every point's position at time t and coordinates q: out[k * dimension + j]; an error
     /// (not a panic) where a formula is not finite, or where `q` or `out` has the wrong length.
     pub fn evaluate(&self, t: f64, q: &[f64], out: &mut [f64]) -> Result<(), DrawingError> {

@@ -36,7 +36,7 @@
 //!
 //! [drawing]                                   # optional: how the mechanism looks
 //! points = { contact = ["x2", "x3"] }         # formulas of t, the coordinates, the parameters
-//! surfaces = [{ constraint = "surface", curve = ["s", "sin(s)"], s = [-3.5, 2.5] }]
+//! surfaces = [{ constraint = "surface", curve = ["s", "sin(s)"], s = [-4, 2] }]
 //! circles = [{ at = "contact", radius = 0.06 }]
 //! ```
 //!

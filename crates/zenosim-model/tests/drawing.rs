@@ -91,6 +91,12 @@ fn the_points_are_where_the_formulas_put_them() {
     for (k, (got, want)) in out.iter().zip(expected).enumerate() {
         assert!((got - want).abs() < 1e-12, "value {k}: {got} vs {want}");
     }
+    // One point alone, the same.
+    let mut bob = [0.0; 2];
+    drawing
+        .evaluate_point(1, 0.8, &[0.3, 0.25], &mut bob)
+        .unwrap();
+    assert_eq!(bob, out[2..4]);
 }
 
 #[test]

@@ -8,11 +8,15 @@
 //! beside the energy when the trajectory has the energy balance's columns); `plane`; `zeno`,
 //! the flight times.
 
+mod animation;
+mod animation_frames;
+mod animation_render;
 mod canvas;
 mod chart;
 mod contour;
 mod decimate;
 mod figure;
+mod gif_file;
 mod plane_chart;
 pub(crate) mod record;
 pub(crate) mod scene;
@@ -31,6 +35,7 @@ use std::str::FromStr;
 
 use anyhow::{anyhow, Context};
 
+pub use animation::animate;
 pub use canvas::Format;
 pub use style::short;
 pub use sweep_map::{draw_map, MapSpec};

@@ -252,7 +252,7 @@ pub fn quote(text: &str) -> String {
 
 /// A reader that fails once a line grows longer than its limit, so that a malformed file (one
 /// line of a gigabyte) costs no more memory than the longest line it may hold.
-struct LineLimit<R> {
+pub(super) struct LineLimit<R> {
     inner: R,
     limit: usize,
     /// Bytes read since the last newline.
@@ -260,7 +260,7 @@ struct LineLimit<R> {
 }
 
 impl<R> LineLimit<R> {
-    fn new(inner: R, limit: usize) -> Self {
+    pub(super) fn new(inner: R, limit: usize) -> Self {
         Self {
             inner,
             limit,

@@ -12,9 +12,13 @@ use zenosim_model::{Drawing, Limits, Override, Shape};
 
 use super::frames::Frames;
 use crate::plot::record::Record;
+use crate::run::MODEL;
 
-/// The model file's name in a run's folder.
-pub const MODEL: &str = "model.toml";
+/// The most operations evaluating the drawing at every frame may take (seconds of work): a
+/// drawing of many points over a run of many events is refused past it.
+const MAX_OPERATIONS: u64 = 2_000_000_000;
+/// The most point coordinates kept over all frames (80 MB).
+const MAX_VALUES: usize = 20_000_000;
 
 /// The mechanism as the page draws it: the points, the shapes between them, and each point's
 /// position (x, y: a 3-D drawing's projection on the x–y plane) at every frame, given once for
@@ -93,9 +97,21 @@ pub fn load(dir: &Path, record: &Record) -> anyhow::Result<Result<Drawing, Strin
 pub fn draw(drawing: &Drawing, frames: &Frames, dir: &Path) -> anyhow::Result<Drawn> {
     let count = drawing.points().len();
     let dimension = drawing.dimension();
+    let operations = drawing.operations() as u64 * frames.len() as u64;
+    let values = frames.len() * count * 2;
+    if operations > MAX_OPERATIONS || values > MAX_VALUES {
+        return Err(anyhow!(
+            "{}: drawing its {count} points at the animation's {} frames would take {operations} \
+             operations and {values} values, more than the report allows ({MAX_OPERATIONS} and \
+             {MAX_VALUES}): draw fewer points (fewer samples of a surface), or remove the file \
+             to write the report without the mechanism",
+            dir.join(MODEL).display(),
+            frames.len()
+        ));
+    }
     let mut out = vec![0.0; count * dimension];
     // x, y of every point at every frame.
-    let mut all = Vec::with_capacity(frames.len() * count * 2);
+    let mut all = Vec::with_capacity(values);
     for k in 0..frames.len() {
         // A state that is not finite (a run that diverged) keeps the last drawing.
         if !frames.q(k).iter().all(|q| q.is_finite()) {
