@@ -365,16 +365,26 @@
       ctx.stroke();
     }
     ctx.font = "11px system-ui, sans-serif";
+    // Each Zeno point a red line, labelled where there is room (a run of thousands of them
+    // draws a line per pixel at most).
+    let drawn = -Infinity;
+    let labelled = -Infinity;
+    ctx.strokeStyle = "#c0392b";
+    ctx.fillStyle = "#c0392b";
+    ctx.lineWidth = data.zeno.length > 50 ? 1 : 2;
     data.zeno.forEach((z, k) => {
       const x = X(z.t_switch);
-      ctx.strokeStyle = "#c0392b";
-      ctx.fillStyle = "#c0392b";
-      ctx.lineWidth = 2;
+      if (x - drawn < 1) return;
+      drawn = x;
       ctx.beginPath();
-      ctx.moveTo(x, 2);
+      ctx.moveTo(x, 12);
       ctx.lineTo(x, height);
       ctx.stroke();
-      ctx.fillText("Zeno " + (k + 1), Math.min(x + 3, width - 44), 11);
+      const at = Math.min(x + 3, width - 60);
+      if (at - labelled > 60) {
+        ctx.fillText("Zeno " + (k + 1), at, 11);
+        labelled = at;
+      }
     });
     const x = X(time);
     ctx.fillStyle = "#1f5fbf";
@@ -497,8 +507,12 @@
     }
     ctx.setLineDash([5, 4]);
     ctx.strokeStyle = "#c0392b";
+    let drawn = -Infinity;
     data.zeno.forEach((z) => {
-      ctx.beginPath(); ctx.moveTo(X(z.t_switch), L.top); ctx.lineTo(X(z.t_switch), L.bottom); ctx.stroke();
+      const x = X(z.t_switch);
+      if (x < L.left || x > L.right || x - drawn < 4) return;
+      drawn = x;
+      ctx.beginPath(); ctx.moveTo(x, L.top); ctx.lineTo(x, L.bottom); ctx.stroke();
     });
     ctx.setLineDash([]);
     ctx.lineWidth = 1.5;
