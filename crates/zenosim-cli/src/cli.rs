@@ -55,7 +55,8 @@ or SIGTERM stops the run at its next step and writes everything computed up to t
 \"interrupted\", exit status 130 (143 for SIGTERM); a second Ctrl-C stops at once, leaving the
 previous results as they were and no temporary file.
 With --plot, the plots are drawn from these files once they are complete, as `zenosim plot DIR`
-draws them (see `zenosim plot --help`).
+draws them (see `zenosim plot --help`); with --report, report.html is written from them, as
+`zenosim report DIR` writes it.
 
 Exit status: 0 finished; 1 the simulation failed or reached a limit or the output cap (the files
 are still completed, status \"failed\") or the output could not be written; 2 a bad model or
@@ -66,6 +67,10 @@ interrupted by Ctrl-C (SIGTERM)."
     /// Draw the plots of a run from its output directory (summary.json and trajectory.csv).
     #[command(after_help = PLOT_HELP)]
     Plot(PlotArgs),
+    /// Write report.html into a run's output directory: the mechanism animated, the plots
+    /// interactive, the events and the Zeno points, in one file that works offline.
+    #[command(after_help = REPORT_HELP)]
+    Report(ReportArgs),
     /// Animate a run's mechanism, as its model's [drawing] shows it, into a GIF file.
     #[command(after_help = ANIMATE_HELP)]
     Animate(AnimateArgs),
@@ -306,6 +311,11 @@ pub struct RunArgs {
     #[arg(long, value_enum, value_name = "svg|png")]
     pub format: Option<Format>,
 
+    /// Write report.html into the output directory once the run's files are complete: the
+    /// mechanism animated and the plots interactive (see `zenosim report --help`).
+    #[arg(long)]
+    pub report: bool,
+
     /// With --plot: the configuration plot's axes, two coordinates or velocities X,Y
     /// [default: the two coordinates the first constraint depends on].
     #[arg(long, value_name = "X,Y", value_parser = parse_plane)]
@@ -458,6 +468,33 @@ data-name=\"...\">.
 Exit status: 0 the plots are written; 1 a plot could not be written; 2 bad arguments, or DIR
 does not hold a complete run (summary.json or trajectory.csv missing or malformed: the message
 names the file and the line).";
+
+/// What `zenosim report --help` says of the page and the exit status.
+const REPORT_HELP: &str = "The report, DIR/report.html, is one HTML file with everything in it \
+(its script, its style and the run's data): it opens in a browser from the disk and fetches \
+nothing. It shows:
+  the mechanism    drawn from the [drawing] section of DIR/model.toml (the model file the run
+                   wrote there, with the run's parameters), played at a chosen speed (1× is
+                   real time) and slowed down approaching each Zeno point; a scrubber with the events marked
+                   along it; the mode and the constraints held; the trace of a chosen point
+  the plots        displacements, velocities and energy against time: zoom (wheel), pan
+                   (drag), the values under the pointer, series switched on and off
+  the Zeno points  and the events, in tables whose times move the animation there
+Without a [drawing] (or without model.toml) the page says so and shows the rest. Long runs are \
+decimated as `zenosim plot` decimates them; both rows of every event are kept. The file is \
+written to a temporary name and renamed when complete.
+
+Exit status: 0 the report is written; 1 it could not be written; 2 bad arguments, or DIR does \
+not hold a complete run (summary.json or trajectory.csv missing or malformed, model.toml \
+unreadable or not the run's: the message names the file).";
+
+/// `zenosim report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// The output directory of a run (`zenosim run --out DIR`, by default out/<model name>).
+    #[arg(value_name = "DIR")]
+    pub dir: PathBuf,
+}
 
 /// `zenosim plot`.
 #[derive(Debug, Args)]

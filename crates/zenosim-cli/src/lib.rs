@@ -1,6 +1,7 @@
 //! The `zenosim` command: simulate a hybrid Lagrangian written in a model file (`zenosim run`),
-//! check one and print what zenosim derives from it (`zenosim check`), or draw the plots of a
-//! run (`zenosim plot`, or `zenosim run --plot`); run a model over a grid of parameters or
+//! check one and print what zenosim derives from it (`zenosim check`), draw the plots of a
+//! run (`zenosim plot`, or `zenosim run --plot`) or write its interactive report (`zenosim
+//! report`, or `zenosim run --report`); run a model over a grid of parameters or
 //! initial values (`zenosim sweep`, its shards joined by `zenosim merge`); time a model's runs
 //! (`zenosim bench`) and draw work–precision diagrams (`zenosim work-precision`).
 //!
@@ -21,6 +22,7 @@ mod merge;
 mod output;
 mod plot;
 mod progress;
+mod report;
 mod run;
 mod signals;
 mod size;
@@ -90,6 +92,7 @@ pub fn main() -> ExitCode {
         Command::Merge(args) => merge::merge(&args),
         Command::Check(args) => check::check(&args),
         Command::Plot(args) => plot::plot(&args),
+        Command::Report(args) => report::report(&args),
         Command::Animate(args) => plot::animate(&args),
         Command::Bench(args) => bench::bench(&args),
         Command::WorkPrecision(args) => plot::work_precision(&args),

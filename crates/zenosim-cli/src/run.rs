@@ -21,6 +21,7 @@ use crate::output::{OutputDir, PartialFile};
 use crate::plot;
 use crate::plot::short;
 use crate::progress::Progress;
+use crate::report;
 use crate::signals;
 use crate::trajectory::TrajectoryWriter;
 use crate::{
@@ -140,6 +141,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     let summary_path = summary_finished.target().to_path_buf();
     signals::committing(|| {
         out.remove(plot::plot_files())?;
+        out.remove([report::REPORT.to_string()])?;
         out.replace(SUMMARY, [csv_finished, model_finished, summary_finished])
     })
     .output()?;
@@ -155,12 +157,24 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     } else {
         Ok(Vec::new())
     };
+    // The report, from the same files, exactly as `zenosim report` writes it.
+    let report_file = if args.report {
+        report::write(&dir).map(Some)
+    } else {
+        Ok(None)
+    };
     let mut files = vec![
         (out.path(TRAJECTORY), Some(rows)),
         (out.path(MODEL), None),
         (summary_path, None),
     ];
     files.extend(plots.iter().flatten().map(|path| (path.clone(), None)));
+    files.extend(
+        report_file
+            .iter()
+            .flatten()
+            .map(|path| (path.clone(), None)),
+    );
     let balance = (!autonomous).then_some(&balance);
     print_report(&report(
         &message,
@@ -207,8 +221,10 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
             signal.map_or(EXIT_FAILED, signals::exit_status)
         }
     };
-    // A plot that could not be drawn is an output failure, said after the run's own outcome.
+    // A plot or a report that could not be written is an output failure, said after the run's
+    // own outcome.
     plots?;
+    report_file?;
     Ok(code)
 }
 

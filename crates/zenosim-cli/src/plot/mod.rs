@@ -19,14 +19,14 @@ mod figure;
 mod gif_file;
 mod plane_chart;
 mod raster;
-mod record;
-mod scene;
+pub(crate) mod record;
+pub(crate) mod scene;
 mod sequences;
 mod style;
 mod svg;
 mod sweep_map;
 mod time_chart;
-mod trajectory_file;
+pub(crate) mod trajectory_file;
 mod work_precision;
 mod zeno_chart;
 

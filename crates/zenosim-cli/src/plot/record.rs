@@ -17,8 +17,14 @@ use super::trajectory_file::quote;
 pub struct Record {
     /// The model's name.
     pub model: String,
+    /// The model's description, if it has one.
+    #[serde(default)]
+    pub description: Option<String>,
     /// `finished`, `zeno_stalled` or `failed`.
     pub status: String,
+    /// What happened, in words.
+    #[serde(default)]
+    pub message: Option<String>,
     /// The coordinates' names.
     pub coordinates: Vec<String>,
     /// The velocities' names.
@@ -169,7 +175,7 @@ impl Record {
         let display = path.display();
         let file = File::open(path).with_context(|| {
             format!(
-                "cannot read {display}: plot a directory that `zenosim run` wrote (it writes \
+                "cannot read {display}: give a directory that `zenosim run` wrote (it writes \
                  summary.json last, once the run is complete)"
             )
         })?;

@@ -45,9 +45,31 @@ pub struct Trajectory {
     pub path_bounds: Option<Bounds>,
 }
 
+/// A row of the trajectory as [`read_with`] hands it over.
+pub struct Row<'a> {
+    /// Its time.
+    pub t: f64,
+    /// Its `mode` column: `free`, or `constrained:` and the constraints held joined by `+`.
+    pub mode: &'a str,
+    /// `q…, q̇…`, the energy and, when the file has the energy balance's columns,
+    /// `E(0) + work − impact loss` (the layout [`hermite`] joins).
+    pub values: &'a [f64],
+}
+
 /// Reads the trajectory at `path` of the run `record`, with the plane of columns `plane`.
 /// Errors name the file and the line.
 pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Result<Trajectory> {
+    read_with(path, record, plane, |_| {})
+}
+
+/// [`read`], handing every row of the file, in order, to `visit` as it is read (the report's
+/// animation keeps some of them).
+pub fn read_with(
+    path: &Path,
+    record: &Record,
+    plane: (usize, usize),
+    mut visit: impl FnMut(&Row<'_>),
+) -> anyhow::Result<Trajectory> {
     let display = path.display();
     let file = File::open(path).with_context(|| format!("cannot read {display}"))?;
     // No line of a trajectory of these columns is longer than this: a longer one (a file of
@@ -122,6 +144,13 @@ pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Resu
             values[2 * n + 1] = start + work;
         }
         rows += 1;
+        let mode = std::str::from_utf8(&row[1])
+            .map_err(|_| anyhow!("{display}:{line}: column `mode` is not valid UTF-8"))?;
+        visit(&Row {
+            t,
+            mode,
+            values: &values,
+        });
         if let Some((t0, before)) = &previous {
             let gap = t - t0;
             if gap > column {
@@ -164,7 +193,7 @@ pub fn read(path: &Path, record: &Record, plane: (usize, usize)) -> anyhow::Resu
 /// coordinate on the cubic with `a`'s and `b`'s values and velocities, each velocity its
 /// derivative; the values after them (the energy, the balance) on the straight line. Rows are
 /// `q…, q̇…, energy` and, for `balanced` rows, the balance.
-fn hermite(a: &[f64], b: &[f64], h: f64, s: f64, balanced: bool, out: &mut [f64]) {
+pub fn hermite(a: &[f64], b: &[f64], h: f64, s: f64, balanced: bool, out: &mut [f64]) {
     let n = (a.len() - 1 - usize::from(balanced)) / 2;
     let (s2, s3) = (s * s, s * s * s);
     // The cubic Hermite basis and its derivatives in s.
