@@ -4,7 +4,10 @@
 use std::path::Path;
 
 use anyhow::{anyhow, Context};
+use zenosim::HybridLagrangian;
 use zenosim_model::{Limits, ModelFile, Override, ReadError};
+
+use crate::plot::record::Record;
 
 /// Reads `path` ([`zenosim_model::read_source`]) and parses it with `overrides` applied, its
 /// formulas bounded by `limits`. Every error names the file.
@@ -23,6 +26,45 @@ pub fn load_with_source(
     let file = zenosim_model::parse_model_with(&display, &source, overrides, limits)
         .map_err(|error| anyhow!(error))?;
     Ok((file, source))
+}
+
+/// The model of the run that `record` (its `summary.json`) describes, from the file `path` (the
+/// run's `model.toml`, or one given): parsed with the run's values of the file's parameters
+/// where they differ from the file's (its `--set`), and refused where its coordinates are not
+/// the run's. Every error names the file.
+pub fn load_for_run(path: &Path, record: &Record, limits: Limits) -> anyhow::Result<ModelFile> {
+    let display = path.display().to_string();
+    let source = read_source(path, &display)?;
+    let parse = |overrides: &[Override]| {
+        zenosim_model::parse_model_with(&display, &source, overrides, limits)
+            .map_err(|error| anyhow!(error))
+    };
+    let file = parse(&[])?;
+    let coordinates = file.model.coordinate_names();
+    if coordinates != record.coordinates {
+        return Err(anyhow!(
+            "{display}: its coordinates are {}, the run's are {}: the model file does not belong \
+             to this run",
+            coordinates.join(", "),
+            record.coordinates.join(", ")
+        ));
+    }
+    let overrides: Vec<Override> = file
+        .parameters
+        .iter()
+        .filter_map(|(name, value)| {
+            let run = record.parameters.get(name).copied().flatten()?;
+            (run.to_bits() != value.to_bits()).then(|| Override {
+                name: name.clone(),
+                value: format!("{run:?}"),
+            })
+        })
+        .collect();
+    if overrides.is_empty() {
+        Ok(file)
+    } else {
+        parse(&overrides)
+    }
 }
 
 /// The text of the model file `path` (named `display` in messages): at most

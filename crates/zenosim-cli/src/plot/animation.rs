@@ -5,7 +5,6 @@ use std::io::{BufWriter, Write};
 
 use anyhow::{anyhow, Context};
 use zenosim::HybridLagrangian;
-use zenosim_model::Override;
 
 use super::animation_frames::{self, Timing};
 use super::animation_render::{self, View, COLOURS};
@@ -41,22 +40,8 @@ pub fn animate(args: &AnimateArgs) -> Result<u8, Failure> {
             path
         }
     };
-    // The run's parameters (its --set values included), in a fixed order for messages.
-    let mut parameters: Vec<(&String, f64)> = record
-        .parameters
-        .iter()
-        .filter_map(|(name, value)| value.map(|v| (name, v)))
-        .collect();
-    parameters.sort_by(|a, b| a.0.cmp(b.0));
-    let overrides: Vec<Override> = parameters
-        .into_iter()
-        .map(|(name, value)| Override {
-            name: name.clone(),
-            value: format!("{value:?}"),
-        })
-        .collect();
-    let file = crate::input::load(&model_path, &overrides, args.formulas.limits())
-        .with_context(|| format!("with the parameters of {}", dir.join(SUMMARY).display()))
+    let file = crate::input::load_for_run(&model_path, &record, args.formulas.limits())
+        .map_err(|error| anyhow!("{error:#}; give the model that was run with --model MODEL.toml"))
         .bad_input()?;
     let model_name = model_path.display();
     let drawing = file
@@ -70,16 +55,6 @@ pub fn animate(args: &AnimateArgs) -> Result<u8, Failure> {
             )
         })
         .bad_input()?;
-    let coordinates = file.model.coordinate_names();
-    if coordinates != record.coordinates {
-        return Err(anyhow!(
-            "{model_name}: the model's coordinates ({}) are not the run's ({}): give the model \
-             that was run",
-            coordinates.join(", "),
-            record.coordinates.join(", ")
-        ))
-        .bad_input();
-    }
 
     // The frames: every step/fps seconds of simulated time, fewer if they would be too many.
     let delay = (100.0 / f64::from(args.fps)).round().max(2.0) as u16;
@@ -114,7 +89,7 @@ pub fn animate(args: &AnimateArgs) -> Result<u8, Failure> {
     }
     let frames = animation_frames::read(
         &dir.join(TRAJECTORY),
-        &coordinates,
+        &record.coordinates,
         drawing,
         Timing { step, count },
     )

@@ -13,7 +13,7 @@ use std::path::Path;
 use anyhow::{anyhow, bail, Context};
 use zenosim_model::Drawing;
 
-use super::trajectory_file::{quote, LineLimit};
+use super::trajectory_file::{hermite_basis, quote, LineLimit};
 
 /// The most points of the trace kept between two frames (the rows of a burst of bounces).
 const TRACE_PER_FRAME: usize = 512;
@@ -57,14 +57,7 @@ struct Row {
 /// The coordinates at `t` on the cubic through rows `a` and `b` (`a.t < b.t`).
 fn between(a: &Row, b: &Row, t: f64) -> Vec<f64> {
     let h = b.t - a.t;
-    let s = (t - a.t) / h;
-    let (s2, s3) = (s * s, s * s * s);
-    let (h00, h10, h01, h11) = (
-        2.0 * s3 - 3.0 * s2 + 1.0,
-        s3 - 2.0 * s2 + s,
-        3.0 * s2 - 2.0 * s3,
-        s3 - s2,
-    );
+    let [h00, h10, h01, h11] = hermite_basis((t - a.t) / h);
     (0..a.q.len())
         .map(|i| h00 * a.q[i] + h10 * h * a.v[i] + h01 * b.q[i] + h11 * h * b.v[i])
         .collect()

@@ -195,14 +195,9 @@ pub fn read_with(
 /// `q…, q̇…, energy` and, for `balanced` rows, the balance.
 pub fn hermite(a: &[f64], b: &[f64], h: f64, s: f64, balanced: bool, out: &mut [f64]) {
     let n = (a.len() - 1 - usize::from(balanced)) / 2;
-    let (s2, s3) = (s * s, s * s * s);
-    // The cubic Hermite basis and its derivatives in s.
-    let (h00, h10, h01, h11) = (
-        2.0 * s3 - 3.0 * s2 + 1.0,
-        s3 - 2.0 * s2 + s,
-        3.0 * s2 - 2.0 * s3,
-        s3 - s2,
-    );
+    let [h00, h10, h01, h11] = hermite_basis(s);
+    // The basis's derivatives in s.
+    let s2 = s * s;
     let (d00, d10, d01, d11) = (
         6.0 * s2 - 6.0 * s,
         3.0 * s2 - 4.0 * s + 1.0,
@@ -217,6 +212,18 @@ pub fn hermite(a: &[f64], b: &[f64], h: f64, s: f64, balanced: bool, out: &mut [
     for k in 2 * n..a.len() {
         out[k] = a[k] + s * (b[k] - a[k]);
     }
+}
+
+/// The cubic Hermite basis at `s` in [0, 1]: the weights of the start's value, the start's
+/// slope, the end's value and the end's slope (the slopes per unit of `s`).
+pub fn hermite_basis(s: f64) -> [f64; 4] {
+    let (s2, s3) = (s * s, s * s * s);
+    [
+        2.0 * s3 - 3.0 * s2 + 1.0,
+        s3 - 2.0 * s2 + s,
+        3.0 * s2 - 2.0 * s3,
+        s3 - s2,
+    ]
 }
 
 /// The header's names, checked against the summary's: `t, mode, q…, q̇…, h_…, λ_…, energy`,

@@ -7,8 +7,7 @@ use std::path::Path;
 use anyhow::anyhow;
 use serde::Serialize;
 use serde_json::{json, Value};
-use zenosim::HybridLagrangian;
-use zenosim_model::{Drawing, Limits, Override, Shape};
+use zenosim_model::{Drawing, Limits, Shape};
 
 use super::frames::Frames;
 use crate::plot::record::Record;
@@ -49,42 +48,12 @@ pub fn load(dir: &Path, record: &Record) -> anyhow::Result<Result<Drawing, Strin
              Run the model again with this version of zenosim to see it drawn."
         )));
     }
-    let display = path.display().to_string();
-    let what_to_do = "fix it, or remove it to write the report without the mechanism";
-    let source = crate::input::read_source(&path, &display)
-        .map_err(|error| anyhow!("{error:#}; {what_to_do}"))?;
-    let parse = |overrides: &[Override]| {
-        zenosim_model::parse_model_with(&display, &source, overrides, Limits::default())
-            .map_err(|error| anyhow!("{error}; {what_to_do}"))
-    };
-    let file = parse(&[])?;
-    let coordinates = file.model.coordinate_names();
-    if coordinates != record.coordinates {
-        return Err(anyhow!(
-            "{display}: its coordinates are {}, the run's are {}: the model file does not belong \
-             to this run; run the model again, or remove it to write the report without the \
-             mechanism",
-            coordinates.join(", "),
-            record.coordinates.join(", ")
-        ));
-    }
-    // The run's values of the file's parameters (its `--set`), where they differ.
-    let overrides: Vec<Override> = file
-        .parameters
-        .iter()
-        .filter_map(|(name, value)| {
-            let run = record.parameters.get(name).copied().flatten()?;
-            (run.to_bits() != value.to_bits()).then(|| Override {
-                name: name.clone(),
-                value: format!("{run:?}"),
-            })
-        })
-        .collect();
-    let file = if overrides.is_empty() {
-        file
-    } else {
-        parse(&overrides)?
-    };
+    let file = crate::input::load_for_run(&path, record, Limits::default()).map_err(|error| {
+        anyhow!(
+            "{error:#}; fix it, run the model again, or remove it to write the report without \
+             the mechanism"
+        )
+    })?;
     Ok(file.drawing.ok_or_else(|| {
         "No mechanism: the model file has no [drawing] section. Add one (see docs/drawing.md: \
          points as formulas of the coordinates, and the segments, circles and surfaces between \
