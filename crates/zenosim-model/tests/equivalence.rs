@@ -309,6 +309,37 @@ fn shipped_models_run_compiled_as_interpreted() {
     }
 }
 
+/// The compiled held acceleration hands a state where the squares of its norms over- or
+/// underflow (a ball of mass 1e-156: `|M⁻¹Aᵀ|² = ∞`; of 1e201: `s² = 0`) to the general path,
+/// which decides from the vectors that the floor acts: the ball comes to rest on it after the
+/// Zeno point, as the interpreted model's does, to the bit. (A deferral turned into an error
+/// would fail the run at the first step on the floor.)
+#[test]
+fn the_compiled_held_motion_defers_where_the_squares_overflow() {
+    let source = std::fs::read_to_string(models_dir().join("bouncing-ball.toml")).unwrap();
+    for mass in ["1e-156", "1e201"] {
+        let mass: zenosim_model::Override = format!("m={mass}").parse().unwrap();
+        let file = parse_model("bouncing-ball.toml", &source, std::slice::from_ref(&mass))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let compiled = file.model.compiled_derivatives().expect("compiled");
+        assert_eq!(compiled.coverage().0, compiled.coverage().1, "{mass}");
+        let interpreted = file.model.clone().interpreted();
+        let (q0, v0) = (&file.initial.q, &file.initial.q_dot);
+        let fast = run(&file.model, q0, v0, file.options());
+        let slow = run(&interpreted, q0, v0, file.options());
+        assert_eq!(fast.outcome, Outcome::Finished, "{mass}");
+        assert!(
+            matches!(fast.final_mode, zenosim::Mode::Constrained(_)),
+            "{mass}: {:?}",
+            fast.final_mode
+        );
+        assert_eq!(fast.zeno.len(), 1, "{mass}");
+        assert_eq!(event_time_gap(&fast, &slow), 0.0, "{mass}");
+        assert_eq!(fast.final_state.q, slow.final_state.q, "{mass}");
+        assert_eq!(fast.final_state.q_dot, slow.final_state.q_dot, "{mass}");
+    }
+}
+
 /// A formula that branches on a value (`abs`) cannot be traced: that constraint is
 /// differentiated through the interpreter, the rest is compiled, and the run is right.
 /// A particle at x = 0.5 moving at 1 between elastic walls at x = ±1 (h = 1 − |x|) hits them

@@ -324,7 +324,26 @@ pub(crate) fn guard_along_of<T: Scalar, L: HybridLagrangian>(
     q: &[T],
     q_dot: &[T],
 ) -> (T, T, T) {
-    let mut q_d = [Dual2::<T>::from_re(T::zero()); MAX_DIMENSION];
+    // A model that declares its size gets arrays of that size: no array of MAX_DIMENSION
+    // numbers to clear at every sample of a guard (a call to memset each).
+    match L::DIMENSION {
+        Some(_) => {
+            with_dimension!(L; q.len(), N => guard_along_in::<T, N, L>(model, index, t, q, q_dot))
+        }
+        None => guard_along_in::<T, MAX_DIMENSION, L>(model, index, t, q, q_dot),
+    }
+}
+
+/// [`guard_along_of`] with its duals in an array of `N ≥ n`.
+#[inline(always)]
+fn guard_along_in<T: Scalar, const N: usize, L: HybridLagrangian>(
+    model: &L,
+    index: usize,
+    t: T,
+    q: &[T],
+    q_dot: &[T],
+) -> (T, T, T) {
+    let mut q_d = [Dual2::<T>::from_re(T::zero()); N];
     for ((x, &qi), &vi) in q_d.iter_mut().zip(q).zip(q_dot) {
         *x = Dual2::new(qi, vi, T::zero());
     }
@@ -340,8 +359,23 @@ pub(crate) fn energy_of<T: Scalar, L: HybridLagrangian>(
     q: &[T],
     q_dot: &[T],
 ) -> T {
-    let mut q_d = [Dual::<T>::from_re(T::zero()); MAX_DIMENSION];
-    let mut v_d = [Dual::<T>::from_re(T::zero()); MAX_DIMENSION];
+    // Arrays of the model's size where it declares one, as for [`guard_along_of`].
+    match L::DIMENSION {
+        Some(_) => with_dimension!(L; q.len(), N => energy_in::<T, N, L>(model, t, q, q_dot)),
+        None => energy_in::<T, MAX_DIMENSION, L>(model, t, q, q_dot),
+    }
+}
+
+/// [`energy_of`] with its duals in arrays of `N ≥ n`.
+#[inline(always)]
+fn energy_in<T: Scalar, const N: usize, L: HybridLagrangian>(
+    model: &L,
+    t: T,
+    q: &[T],
+    q_dot: &[T],
+) -> T {
+    let mut q_d = [Dual::<T>::from_re(T::zero()); N];
+    let mut v_d = [Dual::<T>::from_re(T::zero()); N];
     for (x, &qi) in q_d.iter_mut().zip(q) {
         *x = Dual::from_re(qi);
     }

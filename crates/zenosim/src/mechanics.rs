@@ -280,18 +280,22 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
         let Route::Whole(compiled) = route(self.model) else {
             return None;
         };
-        // No program may run while this one's outputs are read: where the squares cannot tell
-        // whether the constraint acts (`|| true` keeps their verdict), the general path decides.
-        let held = compiled.held_view::<N, _>(index, t, q, q_dot, |held| {
-            let (s, gradient_norm2, w_norm2) = held.acting();
-            check_acting(held.pivots(), s, gradient_norm2, w_norm2, index, || true)?;
-            write_finite(held.acc(), held.lambda(), q_ddot)?;
-            Ok(held.lambda())
-        });
-        match held {
-            Some(Err(DynamicsError::DegenerateConstraint { .. })) => None,
-            held => held,
-        }
+        // [`check_acting`]'s checks, but no program may run while this one's outputs are read:
+        // where the squares say that the constraint does not act (they may have over- or
+        // underflowed), the general path decides, as where there is no program. (Deferring
+        // there, not mapping an error afterwards, keeps the path of every other state short.)
+        compiled
+            .held_view::<N, _>(index, t, q, q_dot, |held| {
+                if let Err(err) = check_pivots(held.pivots()) {
+                    return Some(Err(err.into()));
+                }
+                let (s, gradient_norm2, w_norm2) = held.acting();
+                if degenerate(s, gradient_norm2, w_norm2) {
+                    return None;
+                }
+                Some(write_finite(held.acc(), held.lambda(), q_ddot).map(|()| held.lambda()))
+            })
+            .flatten()
     }
 
     fn acceleration_n<const N: usize>(

@@ -75,6 +75,7 @@ pub(crate) trait Outputs<T>: Sized {
     /// The numbers in order.
     fn write(&self, out: &mut Vec<T>);
     /// The numbers back from the front of `flat`, in the order of [`Outputs::write`].
+    #[inline(always)]
     fn read(flat: &[T]) -> Self {
         Self::read_from(&mut Cursor { flat })
     }
@@ -88,12 +89,14 @@ pub(crate) struct Cursor<'a, T> {
 }
 
 impl<T: Scalar> Cursor<'_, T> {
+    #[inline(always)]
     fn scalar(&mut self) -> T {
         let (first, rest) = self.flat.split_first().expect("as many outputs as written");
         self.flat = rest;
         *first
     }
 
+    #[inline(always)]
     fn vector<const N: usize>(&mut self) -> SVector<T, N> {
         let (first, rest) = self.flat.split_at(N);
         self.flat = rest;
@@ -113,6 +116,7 @@ impl<const N: usize, T: Scalar> Outputs<T> for FreeMotion<N, T> {
     fn write(&self, out: &mut Vec<T>) {
         out.extend(self.pivots.iter().chain(&self.acc).copied());
     }
+    #[inline(always)]
     fn read_from(c: &mut Cursor<'_, T>) -> Self {
         let pivots = c.vector();
         let acc = c.vector();
@@ -149,6 +153,7 @@ impl<const N: usize, T: Scalar> Outputs<T> for Direction<N, T> {
         out.extend(self.w.iter().copied());
         out.push(self.s);
     }
+    #[inline(always)]
     fn read_from(c: &mut Cursor<'_, T>) -> Self {
         Self {
             pivots: c.vector(),
@@ -191,6 +196,7 @@ impl<const N: usize, T: Scalar> Outputs<T> for ConstrainedMotion<N, T> {
         out.push(self.lambda);
         out.extend(self.acc.iter().copied());
     }
+    #[inline(always)]
     fn read_from(c: &mut Cursor<'_, T>) -> Self {
         Self {
             direction: Direction::read_from(c),
@@ -228,6 +234,7 @@ impl<const N: usize, T: Scalar> Outputs<T> for HeldAcceleration<N, T> {
         out.extend(self.pivots.iter().copied());
         out.extend([self.s, self.gradient_norm2, self.w_norm2]);
     }
+    #[inline(always)]
     fn read_from(c: &mut Cursor<'_, T>) -> Self {
         Self {
             acc: c.vector(),
