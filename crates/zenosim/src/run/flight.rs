@@ -71,8 +71,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         }
     }
 
-    /// A start at rest on surfaces (`h` within the position tolerance, `ḣ` within its
-    /// rounding) that hold the body (docs/contact-laws.md, law 1) is no impact and no Zeno
+    /// A start at rest on surfaces (`h` and `ḣ` within their rounding) that hold the body (docs/contact-laws.md, law 1) is no impact and no Zeno
     /// point: the run starts in the constrained motion on them, its first interval held from
     /// `t = 0`. (It was an impact of zero impulse at `t = 0` and a Zeno point "after 1 impact"
     /// with no ratio.)
@@ -84,11 +83,12 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             let (q, q_dot) = y.split_at(n);
             for index in 0..self.sim.model.constraints().len() {
                 let (h, _, _) = guard_along(self.sim.model, index, t, q, q_dot);
+                // On the surface to its rounding, not to the position tolerance (rtol·|q|, tens
+                // of metres for coordinates of 1e11: a body that high above its surface falls).
+                // Away from it the normal is not asked for (it may be degenerate there, and is
+                // found so at the contact).
                 let surface = self.surface(index, t, q, q_dot);
-                let q_tol = surface.position_tolerance(self.sim.options.tolerances);
-                // Away from the surface its normal is not asked for (it may be degenerate
-                // there, and is found so at the contact).
-                if h.abs() > q_tol {
+                if h.abs() > START_ROUND_OFF * surface.h_scale {
                     continue;
                 }
                 let normal = self.normal(index, t, q, q_dot)?;
@@ -374,6 +374,10 @@ pub(super) fn leaving(normal: &Normal) -> bool {
         || (normal.a_q_dot.abs() <= normal.a_q_dot_round_off
             && normal.h_ddot_free > normal.h_ddot_round_off)
 }
+
+/// How far from a surface, in units of `h`'s rounding scale `|h| + Σ|A_i q_i|`, a start counts
+/// as on it ([`Runner::rest_at_start`]).
+const START_ROUND_OFF: f64 = 64.0 * f64::EPSILON;
 
 /// A constraint at one state: [`Runner::surface`].
 pub(super) struct Surface {

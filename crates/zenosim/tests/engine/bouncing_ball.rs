@@ -3,8 +3,8 @@
 
 use zenosim::models::BouncingBall;
 use zenosim::{
-    EventKind, Execution, Mode, Outcome, Simulation, SimulationOptions, Tolerances, Trajectory,
-    ZenoKind, ZenoStrategy,
+    Constraint, EventKind, Execution, HybridLagrangian, Mode, Outcome, Scalar, Simulation,
+    SimulationOptions, Tolerances, Trajectory, ZenoKind, ZenoStrategy,
 };
 
 const G: f64 = 9.81;
@@ -407,4 +407,53 @@ fn a_start_at_rest_on_the_floor_was_a_zeno_point_after_one_impact() {
         .run(&mut trajectory);
     assert_eq!(run.intervals[0].mode, Mode::Free);
     assert!(relative(run.impact_times(0)[0], 2.0 / G) < 1e-9);
+}
+
+/// A ball above a floor far from the origin, `h = y − 5e11`.
+struct FarFloor {
+    constraints: [Constraint; 1],
+}
+
+impl HybridLagrangian for FarFloor {
+    fn dimension(&self) -> usize {
+        1
+    }
+    fn lagrangian<D: Scalar>(&self, q: &[D], q_dot: &[D]) -> D {
+        q_dot[0] * q_dot[0] * 0.5 - q[0] * G
+    }
+    fn constraints(&self) -> &[Constraint] {
+        &self.constraints
+    }
+    fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
+        q[0] - 5e11
+    }
+}
+
+/// Regression (review of issue 24): a ball at rest 40 m above a floor at y = 5e11 was "started
+/// at rest on 'floor': held from t = 0" and floated there, because a start counted as on the
+/// surface within the position tolerance, rtol·|y| = 50 m. It falls: 4.9 m in the first second.
+#[test]
+fn a_ball_far_from_the_origin_was_held_40_m_above_its_floor() {
+    let ball = FarFloor {
+        constraints: [Constraint::new("floor", 0.5)],
+    };
+    let options = SimulationOptions {
+        t_end: 1.0,
+        ..Default::default()
+    };
+    let run = Simulation::new(&ball, &[5e11 + 40.0], &[0.0], options)
+        .unwrap()
+        .run(&mut ());
+    assert_eq!(run.outcome, Outcome::Finished);
+    assert_eq!(run.intervals[0].mode, Mode::Free);
+    let fallen = 5e11 + 40.0 - run.final_state.q[0];
+    assert!((fallen - 0.5 * G).abs() < 1e-3, "fell {fallen} m");
+    // On the floor exactly, at rest: held from the start.
+    let run = Simulation::new(&ball, &[5e11], &[0.0], options)
+        .unwrap()
+        .run(&mut ());
+    assert_eq!(
+        run.intervals[0].mode,
+        Mode::Constrained(zenosim::ActiveSet::single(0))
+    );
 }
