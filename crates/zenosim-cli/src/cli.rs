@@ -524,7 +524,8 @@ const ANIMATE_HELP: &str = "The model is read from DIR/model.toml (which `zenosi
 beside its results) with the parameters of DIR/summary.json, so that the run's --set values \
 hold; a folder written before model.toml existed needs --model MODEL.toml. The model needs a \
 [drawing] section (docs/drawing.md). The trajectory is sampled every --speed/--fps seconds of \
-simulated time, linearly between its rows (never across an event), each frame showing the \
+simulated time, along the cubic through its rows' positions and velocities (never across an \
+event), each frame showing the \
 drawing at that time, its time and mode in the top left corner, the surfaces of the \
 constraints held in colour and the path of the drawing's trace point so far. The box is fixed \
 over the whole run, with equal scales in x and y (a drawing in space is seen from above its x, \
