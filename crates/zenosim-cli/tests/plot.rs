@@ -1021,6 +1021,33 @@ fn switch_labels_overprinted_each_other() {
     }
 }
 
+/// Regression (review of issue 24): the Zeno diagnostic's first title, "vibrating-table: Zeno
+/// point 1 on 'table', genuine, 9 impacts (first 12 of 400)", was wider than its panel less the
+/// legend's room; plotters centred it at x = 361 of 1000 and it began off the picture.
+#[test]
+fn a_long_zeno_title_began_off_the_picture() {
+    let scratch = table_run("40", &["--plot"]);
+    let svg = text(&scratch.path("out/zeno.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    let titles: Vec<_> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter(|n| n.text().is_some_and(|t| t.contains(": Zeno point ")))
+        .collect();
+    assert!(titles.len() >= 2, "{}", titles.len());
+    for title in titles {
+        let number = |name: &str| title.attribute(name).unwrap().parse::<f64>().unwrap();
+        let (x, size) = (number("x"), number("font-size"));
+        let label = title.text().unwrap();
+        // Half its width, at half an em a character: less than DejaVu Sans takes over such text.
+        let half = 0.25 * size * label.chars().count() as f64;
+        assert!(
+            x - half >= 0.0 && x + half <= 1000.0,
+            "{label}: at {x}, {size} px"
+        );
+    }
+}
+
 /// The y tick labels of an SVG (right-aligned texts of the axes), as numbers.
 fn y_ticks(doc: &Document<'_>) -> Vec<String> {
     inside(&groups(doc, "axes", None), "text")

@@ -120,7 +120,9 @@ pub fn frame<'a, DB: DrawingBackend>(
     });
     let mut builder = ChartBuilder::on(area);
     if !caption.is_empty() {
-        builder.caption(caption, (FONT, TITLE_SIZE));
+        // Plotters centres the title over the area less its margins, and clips it at both ends.
+        let room = area.dim_in_pixel().0 as i32 - right - 2 * 12;
+        builder.caption(caption, (FONT, title_size(area, caption, room)));
     }
     builder
         .margin(12)
@@ -128,6 +130,24 @@ pub fn frame<'a, DB: DrawingBackend>(
         .x_label_area_size(48)
         .y_label_area_size(80);
     builder
+}
+
+/// The title's font size: [`TITLE_SIZE`], smaller for a title wider than `room` pixels; at
+/// least 9 px.
+fn title_size<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, caption: &str, room: i32) -> f64 {
+    let size = f64::from(TITLE_SIZE);
+    let room = f64::from(room.max(1));
+    let style = TextStyle::from((FONT, size).into_font());
+    let width = area
+        .estimate_text_size(caption, &style)
+        .map_or(0.6 * size * caption.chars().count() as f64, |text| {
+            f64::from(text.0)
+        });
+    if width <= room {
+        size
+    } else {
+        (size * room / width).floor().max(9.0)
+    }
 }
 
 /// Draws the legend of `entries` on `area`, right of `chart`'s plot (in the room [`frame`] left
