@@ -25,6 +25,7 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, Weak};
+use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, Context};
 
@@ -234,7 +235,14 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     partial.commit(file)
 }
 
-/// Locks `dir` for this process, or shares the lock this process already holds on it.
+/// How long a lock that another process holds is waited for. A process that forks (a program
+/// that draws in-process while another of its threads starts commands, as the tests do) shares
+/// its lock with the child until the child executes its command, for a moment: a lock released
+/// and taken again in that moment would otherwise be refused.
+const LOCK_PATIENCE: Duration = Duration::from_millis(250);
+
+/// Locks `dir` for this process, or shares the lock this process already holds on it; waits
+/// [`LOCK_PATIENCE`] for another process's.
 fn lock(dir: &Path) -> anyhow::Result<Arc<DirLock>> {
     let key = fs::canonicalize(dir)
         .with_context(|| format!("cannot open the output directory {}", dir.display()))?;
@@ -249,18 +257,24 @@ fn lock(dir: &Path) -> anyhow::Result<Arc<DirLock>> {
     }
     let handle = File::open(&key)
         .with_context(|| format!("cannot open the output directory {}", dir.display()))?;
-    match handle.try_lock() {
-        Ok(()) => {}
-        Err(fs::TryLockError::WouldBlock) => {
-            return Err(anyhow!(
-                "{}: another zenosim is writing into this directory; wait until it ends, or \
-                 write elsewhere (--out)",
-                dir.display()
-            ))
-        }
-        Err(fs::TryLockError::Error(error)) => {
-            return Err(error)
-                .with_context(|| format!("cannot lock the output directory {}", dir.display()))
+    let start = Instant::now();
+    loop {
+        match handle.try_lock() {
+            Ok(()) => break,
+            Err(fs::TryLockError::WouldBlock) if start.elapsed() < LOCK_PATIENCE => {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+            Err(fs::TryLockError::WouldBlock) => {
+                return Err(anyhow!(
+                    "{}: another zenosim is writing into this directory; wait until it ends, or \
+                     write elsewhere (--out)",
+                    dir.display()
+                ))
+            }
+            Err(fs::TryLockError::Error(error)) => {
+                return Err(error)
+                    .with_context(|| format!("cannot lock the output directory {}", dir.display()))
+            }
         }
     }
     let lock = Arc::new(DirLock { handle });
