@@ -233,6 +233,22 @@ fn bad_arguments_are_refused() {
     );
 }
 
+/// Regression (review of issue 24): `--out x.png` wrote a GIF under a PNG's name.
+#[test]
+fn a_gif_was_written_under_a_png_name() {
+    let scratch = Scratch::new(&bouncing_ball());
+    assert_exit(&scratch.run(&[]), 0);
+    let output = scratch.zenosim(&["animate", "out", "--out", "x.png"]);
+    assert_exit(&output, 2);
+    assert!(
+        stderr(&output).contains("give the file a .gif name"),
+        "{}",
+        stderr(&output)
+    );
+    assert!(!scratch.path("x.png").exists());
+    assert_exit(&scratch.zenosim(&["animate", "out", "--out", "x.GIF"]), 0);
+}
+
 #[test]
 fn a_drawing_too_large_to_animate_is_refused() {
     // A curve of 1000 points of a long formula: 1.6 million operations per frame, too many

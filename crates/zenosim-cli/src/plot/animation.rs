@@ -24,6 +24,17 @@ const MAX_OPERATIONS: u64 = 2_000_000_000;
 /// `zenosim animate`: writes the GIF; the exit status.
 pub fn animate(args: &AnimateArgs) -> Result<u8, Failure> {
     let dir = &args.dir;
+    let gif = args
+        .out
+        .extension()
+        .is_some_and(|extension| extension.eq_ignore_ascii_case("gif"));
+    if !gif {
+        return Err(anyhow!(
+            "--out {}: animate writes a GIF; give the file a .gif name",
+            args.out.display()
+        ))
+        .bad_input();
+    }
     let record = Record::read(&dir.join(SUMMARY)).bad_input()?;
     let model_path = match &args.model {
         Some(path) => path.clone(),
