@@ -164,7 +164,10 @@ pub(super) fn hinit<S: OdeSystem>(
     let h0 = if d0 < 1e-5 || d1 < 1e-5 {
         fallback
     } else if d1.is_finite() {
-        0.01 * d0 / d1
+        // A step that moves the state by a hundredth of its size; of the tolerance, where the
+        // state is smaller than that (a body at rest to within 1e-5 of its tolerances, near
+        // the origin, would otherwise start at 1e-16 s, below what f64 resolves in time).
+        0.01 * d0.max(1.0) / d1
     } else {
         // The weighted derivative overflows (a tiny atol, a large derivative: g = 1e11 with
         // atol = 1e-300). The ratio d0 / d1 does not depend on the weights' common scale:
