@@ -260,26 +260,41 @@ fn the_table_rests_flat_on_four_legs() {
 
 /// Regression (review): a table whose back-right leg is 1e-11 short, coplanar to rounding of
 /// the geometry but not exactly, failed with "projecting … left |h| = 2.5e-11". Its legs cannot
-/// all touch; the least-squares projection leaves each within a quarter of the difference,
-/// which is accepted, and it rests on four. A leg 1e-3 short leaves it on the diagonal that
-/// carries its weight, never through the floor.
+/// all touch: it comes to rest flat on the three that reach the floor (its centre of mass lies
+/// over the diagonal front-right to back-left, which carries its weight), the short leg
+/// `1e-11` above the floor. (A leg that is not reached is not held: impacts join only the
+/// constraints reached at the same instant, docs/contact-laws.md, law 2.) A leg 1e-3 short
+/// leaves it rocking on that diagonal, never through the floor.
 #[test]
-fn a_table_with_a_leg_short_by_rounding_rests_on_four() {
+fn a_table_with_a_leg_short_by_rounding_rests_on_three() {
     let source = std::fs::read_to_string(
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../models/table.toml"),
     )
     .unwrap();
-    for short in ["1e-11", "1e-3"] {
+    for short in [1e-11, 1e-3] {
         let text = source.replace(
             r#"h = "z - a*sin(p) - b*sin(r)""#,
-            &format!(r#"h = "z - a*sin(p) - b*sin(r) + {short}""#),
+            &format!(r#"h = "z - a*sin(p) - b*sin(r) + {short:e}""#),
         );
         assert_ne!(text, source);
         let file = parse_model("table.toml", &text, &[]).unwrap_or_else(|e| panic!("{e}"));
-        let (run, _) = run(&file);
-        if short == "1e-11" {
-            let all = (0..4).fold(ActiveSet::empty(), ActiveSet::with);
-            assert_eq!(run.final_mode, Mode::Constrained(all));
+        let (run, trajectory) = run(&file);
+        assert_eq!(run.outcome, Outcome::Finished, "{short}");
+        let Mode::Constrained(held) = run.final_mode else {
+            panic!("{short}: {:?}", run.final_mode)
+        };
+        // Front-right and back-left: the diagonal under the centre of mass.
+        assert!(held.contains(1) && held.contains(2), "{short}: {held:?}");
+        let s = &run.final_state;
+        for p in &trajectory.points {
+            assert!(p.h.iter().all(|&h| h >= -1e-9), "{short}: {p:?}");
+        }
+        if short == 1e-11 {
+            // At rest, flat to the leg's shortness: z, p and r within it, the short leg not
+            // touching. (With a leg 1e-3 short it still rocks on the diagonal at t_end.)
+            assert!(s.q_dot.iter().all(|v| v.abs() < 1e-9), "{s:?}");
+            assert!(s.q.iter().all(|x| x.abs() <= short), "{s:?}");
+            assert!(!held.contains(3), "{held:?}");
         }
     }
 }

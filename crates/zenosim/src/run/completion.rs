@@ -190,7 +190,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             point: split(&after, self.n),
         });
         self.sequence.clear();
-        self.accumulation.clear();
+        self.end_accumulation_held(ActiveSet::single(index));
         self.record_event(
             EventKind::Zeno,
             index,
@@ -264,7 +264,18 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             let e = self.sim.model.constraints()[index].restitution;
             self.held_prediction(index, held, e, t, y)?
         } else {
-            self.accumulation.predict()
+            // Impacts alternating between constraints: the measured ratio, unless the physics
+            // of the constraint just reached says the rest takes longer. In a wedge the flights
+            // do not shrink by one ratio (a short flight between two walls may be followed by
+            // one fifty times longer), and one short flight would make the ratio's prediction
+            // switch early.
+            let measured = self.accumulation.predict();
+            let e = self.sim.model.constraints()[index].restitution;
+            let back = self.held_prediction(index, held, e, t, y)?;
+            match (measured, back) {
+                (Some(m), Some(b)) if b.remaining > m.remaining => Some(b),
+                (m, _) => m,
+            }
         };
         let Some(p) = prediction else {
             return Ok(None);
@@ -401,13 +412,24 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             point: split(&after, self.n),
         });
         self.sequence.clear();
-        self.accumulation.clear();
+        self.end_accumulation_held(held);
         let mode = holding(held);
         let change = (set, Vec::new());
         self.record_event(EventKind::Zeno, index, change, t, &before, &after, mode)?;
         self.restart(t, &after, None)?;
         self.enter_mode(t)?;
         Ok(Next::Continue)
+    }
+
+    /// After a Zeno point whose switch holds `held`: the accumulation ends where it holds all
+    /// of the accumulation's constraints. Where it holds only part of them (a ball in a groove
+    /// that came to rest on one wall, sliding into the vertex, where it strikes the other), the
+    /// wider accumulation goes on through the Zeno point of its part, and law 3 keeps its
+    /// impacts to predict where it ends.
+    fn end_accumulation_held(&mut self, held: ActiveSet) {
+        if self.accumulation.constraints().minus(held).is_empty() {
+            self.accumulation.clear();
+        }
     }
 
     /// `Off` on an accumulation over `set`: the plain hybrid system stops there.

@@ -162,8 +162,10 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
 
     /// The constraints in the impact law when constraint `index` is reached at `t` in the state
     /// `y` (docs/contact-laws.md, law 2): `index`, the constraints held, and every other
-    /// constraint closed or closing there, with `h` within the position tolerance and `A q̇`
-    /// not positive beyond its rounding.
+    /// constraint reached at the same instant, to the run's time resolution: `h` within the
+    /// distance its approach covers in that time (`max(−ḣ, 0)` times it) plus the rounding of
+    /// `h`, and `ḣ` not positive beyond its rounding. A constraint near in position but reached
+    /// later is a later impact of its own.
     pub(super) fn closed_set(
         &mut self,
         index: usize,
@@ -172,13 +174,13 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     ) -> Result<ActiveSet, Error> {
         let mut set = self.held().with(index);
         let m = self.sim.model.constraints().len();
-        let tol = self.sim.options.tolerances;
+        let resolution = self.time_resolution(t);
         let (q, q_dot) = y.split_at(self.n);
         let start = set;
         for other in (0..m).filter(|&i| !start.contains(i)) {
             let surface = self.surface(other, t, q, q_dot);
-            let close = surface.h <= surface.tolerance(1.0, tol);
-            if !close {
+            let reach = (-surface.a_q_dot).max(0.0) * resolution + START_ROUND_OFF * surface.h_scale;
+            if !(surface.h <= reach) {
                 continue;
             }
             let normal = self.normal(other, t, q, q_dot)?;
