@@ -46,6 +46,11 @@ impl ImpactSequence {
         self.count
     }
 
+    /// The constraint the sequence is on, once it has an impact.
+    pub fn constraint(&self) -> Option<usize> {
+        self.constraint
+    }
+
     /// The ratio of successive flight times: the geometric mean over the last
     /// [`RATIO_BASELINE`] flights (fewer early in a sequence), once there are three impacts.
     pub fn ratio(&self) -> Option<f64> {

@@ -56,19 +56,25 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let h_dot_after = normal.a_q_dot + normal.s * impulse;
         self.impact_jump(&[impulse], &[normal.a_q_dot], &[h_dot_after], &[normal.h_t]);
         let contacts = ActiveSet::single(index);
+        // The first impact of a sequence that leaves the contact at rest (plastic, or at the
+        // rounding of ḣ) is an impact into the motion held on it, where law 1 holds it: no
+        // sequence has accumulated, so no Zeno point.
+        let first = self.sequence.count() == 0 || self.sequence.constraint() != Some(index);
+        let mode = if first {
+            self.settle(contacts, t, &mut after)?
+        } else {
+            Mode::Free
+        };
         let change = (contacts, vec![impulse]);
-        self.record_event(
-            EventKind::Impact,
-            index,
-            change,
-            t,
-            &before,
-            &after,
-            Mode::Free,
-        )?;
+        self.record_event(EventKind::Impact, index, change, t, &before, &after, mode)?;
         self.impacts += 1;
         self.sequence.record(index, t);
         self.accumulation.record(index, t);
+        if mode != Mode::Free {
+            self.restart(t, &after, Some(hint))?;
+            self.enter_mode(t)?;
+            return Ok(Next::Continue);
+        }
         if self.accumulation.constraints().len() > 1 {
             // Impacts alternating between constraints (a groove's walls).
             let involved = ActiveSet::single(index);
