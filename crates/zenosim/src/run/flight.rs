@@ -155,6 +155,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         }
         let closed = self.closed_set(index, t_event, &before)?;
         if closed.len() > 1 {
+            let index = self.leading(index, closed.minus(self.held()), t_event, &before)?;
             return self.impact_set(index, closed, t_event, before, hint);
         }
         self.impact(index, t_event, before, normal, hint)
@@ -189,6 +190,38 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             }
         }
         Ok(set)
+    }
+
+    /// The constraint an impact on several at once is named after: of those `reached` (the
+    /// impact's constraints not held before it), the one approached fastest in its own
+    /// metric, `−ḣ / √(A M⁻¹ Aᵀ)`; among speeds equal to their rounding (a symmetric impact:
+    /// a ball dropped onto the vertex of a symmetric groove), the first in the model's order,
+    /// not whichever crossing the search happened to find first. `found` where none is.
+    fn leading(
+        &mut self,
+        found: usize,
+        reached: ActiveSet,
+        t: f64,
+        y: &[f64],
+    ) -> Result<usize, Error> {
+        let (q, q_dot) = y.split_at(self.n);
+        let mut best: Option<(usize, f64, f64)> = None;
+        for index in reached.iter() {
+            let normal = self.normal(index, t, q, q_dot)?;
+            let scale = normal.s.sqrt();
+            let speed = -normal.a_q_dot / scale;
+            let round_off = normal.a_q_dot_round_off / scale;
+            let faster = match best {
+                None => true,
+                Some((_, fastest, fastest_round_off)) => {
+                    speed - fastest > round_off + fastest_round_off
+                }
+            };
+            if faster && speed.is_finite() {
+                best = Some((index, speed, round_off));
+            }
+        }
+        Ok(best.map_or(found, |(index, _, _)| index))
     }
 
     /// Constraint `index` at `(q, q̇)`: `h`, `|A|`, the size of `h`'s terms and `A q̇`.

@@ -417,3 +417,35 @@ fn a_corner_between_a_floor_and_a_shallow_ramp() {
         Mode::Constrained(ActiveSet::single(0).with(1))
     );
 }
+
+/// Regression: an impact on two walls reached at the same instant was named after whichever
+/// crossing the search happened to find first, which for a ball dropped onto the vertex of a
+/// symmetric groove depends on the rounding of its start. It is now named after the wall
+/// approached fastest, and, at equal speeds (to their rounding), after the first wall in the
+/// model's order; every wall of the impact is in its `contacts`.
+#[test]
+fn a_symmetric_impact_was_named_after_whichever_crossing_was_found_first() {
+    for (x0, order) in [(0.0, 0), (1e-15, 0), (-1e-15, 0), (0.02, 0), (-0.02, 1)] {
+        let model = Groove {
+            slope: 2.0,
+            constraints: vec![Constraint::new("left", 0.5), Constraint::new("right", 0.5)],
+        };
+        let options = SimulationOptions {
+            t_end: 0.5,
+            ..Default::default()
+        };
+        // Dropped from rest over the vertex (x0 = 0, up to rounding), or beside it.
+        let run = Simulation::new(&model, &[x0, 1.0], &[0.0, 0.0], options)
+            .unwrap()
+            .run(&mut ());
+        let first = &run.events[0];
+        if x0.abs() < 1e-3 {
+            assert_eq!(first.contacts, ActiveSet::single(0).with(1), "x0 = {x0}");
+            assert_eq!(first.constraint, order, "x0 = {x0}");
+        } else {
+            // Beside the vertex, one wall is reached first, alone.
+            assert_eq!(first.contacts, ActiveSet::single(order), "x0 = {x0}");
+            assert_eq!(first.constraint, order, "x0 = {x0}");
+        }
+    }
+}
