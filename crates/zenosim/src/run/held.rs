@@ -37,15 +37,11 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 self.normal(index, t1, &end[..n], &end[n..])?.lift_margin()
             }
         };
-        let next_bound = if self.sim.model.is_autonomous() {
-            None
-        } else {
-            self.lift_trend(
-                ActiveSet::single(index),
-                (t0, t1),
-                (margin_start, margin_end),
-            )?
-        };
+        let next_bound = self.lift_trend(
+            ActiveSet::single(index),
+            (t0, t1),
+            (margin_start, margin_end),
+        )?;
         let dip = matches!(next_bound, Some(None));
         let crossing = if !dip && lift_ruled_out(margin_start, margin_end) {
             None
@@ -85,14 +81,16 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         Ok(Next::Continue)
     }
 
-    /// For a model that is not autonomous, where a held force may vary with time while the
-    /// held motion does not (a ball resting on a vibrating table: its steps grow without
-    /// bound), what the lift-off test needs beyond the step's ends: `None` for an autonomous
-    /// model; else `Some(bound)`, with the margin also sampled at the step's middle, and the
-    /// next step bounded so that the parabola through the three margins, continued, turns by
-    /// at most half the margin at the step's end (`|m″| s²/2 ≤ |m|/2`): no window where the
-    /// force lets go can then fit between two ends that hold. `Some(None)` where the middle
-    /// lets go (the step must be searched) and no bound is needed.
+    /// What the lift-off test needs beyond the step's ends: the margin also sampled at the
+    /// step's middle, and the next step bounded so that the parabola through the three margins,
+    /// continued, turns by at most half the margin at the step's end (`|m″| s²/2 ≤ |m|/2`): no
+    /// window where the force lets go can then fit between two ends that hold. A held force
+    /// may vary faster than the held motion needs steps for: with time (a ball resting on a
+    /// vibrating table, whose steps would grow without bound) or with a coordinate that moves
+    /// uniformly (a rotor that modulates a floor's load, whose angle is linear in time and
+    /// integrated exactly by steps of many turns). `Some(bound)`; `Some(None)` where the middle
+    /// lets go (the step must be searched) and no bound is needed; `None` for a step of no
+    /// length.
     fn lift_trend(
         &mut self,
         held: ActiveSet,
@@ -179,11 +177,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let end = self.stepper.y().to_vec();
         let margin_end = self.set_margin(set, t1, &end)?;
         let margin_start = self.set_margin_start;
-        let next_bound = if self.sim.model.is_autonomous() {
-            None
-        } else {
-            self.lift_trend(set, (t0, t1), (margin_start, margin_end))?
-        };
+        let next_bound = self.lift_trend(set, (t0, t1), (margin_start, margin_end))?;
         let dip = matches!(next_bound, Some(None));
         let crossing = if !dip && lift_ruled_out(margin_start, margin_end) {
             None

@@ -1,5 +1,5 @@
 //! Lift-off: the constraint lets go when its force would have to pull (`λ` reaches 0), and
-//! impacts resume when the body lands again (REFERENCE §2).
+//! impacts resume when the body lands again (docs/contact-laws.md, law 1).
 
 use zenosim::models::BallOnSine;
 use zenosim::{
@@ -124,5 +124,61 @@ fn a_ball_that_flies_off_a_crest_lands_and_bounces_again() {
     for p in &trajectory.points {
         assert!(p.h[0] >= -1e-9, "{p:?}");
         assert!(p.energy <= e0 + 1e-8, "{p:?}");
+    }
+}
+
+/// A body resting on a floor `z ≥ 0` whose load a rotor modulates: `L = ½ ż² + ½ φ̇² − g z +
+/// a z sin φ`. On the floor the rotor turns uniformly (`φ̈ = a z cos φ = 0`), and the floor
+/// carries `g − a sin φ`: with `a = 2 g` it lets go where `sin φ` first reaches ½ (closed form).
+struct RotorOnFloor {
+    constraints: [Constraint; 1],
+}
+
+impl HybridLagrangian for RotorOnFloor {
+    const DIMENSION: Option<usize> = Some(2);
+    fn dimension(&self) -> usize {
+        2
+    }
+    fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
+        (v[0] * v[0] + v[1] * v[1]) * 0.5 - q[0] * 9.81 + q[0] * q[1].sin() * 19.62
+    }
+    fn constraints(&self) -> &[Constraint] {
+        &self.constraints
+    }
+    fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
+        q[0]
+    }
+}
+
+/// Regression: a lift-off was searched inside a held step only where the margins at its ends
+/// did not rule one out, and those of an autonomous model were never sampled inside it. The
+/// rotor's angle is linear in time, so the held steps grew to many turns, and the load's dips
+/// between two ends that held were missed: from φ0 = 4.0 at 1 rad/s the body lifted off at
+/// t = 9.09 instead of 2.81, from φ0 = 3.2 at 2 rad/s never. The margin is now sampled at
+/// every held step's middle and the next step bounded by its curvature, as for models that
+/// depend on time.
+#[test]
+fn a_lift_off_inside_a_long_held_step_was_missed() {
+    use std::f64::consts::PI;
+    for (phi0, omega) in [(4.0, 1.0), (3.2, 2.0), (3.2, 0.5), (4.6, 1.0), (3.6, 2.0)] {
+        let model = RotorOnFloor {
+            constraints: [Constraint::new("floor", 0.5)],
+        };
+        let options = SimulationOptions {
+            t_end: 60.0,
+            ..Default::default()
+        };
+        let run = Simulation::new(&model, &[0.0, phi0], &[0.0, omega], options)
+            .unwrap()
+            .run(&mut ());
+        // The first angle past φ0 where sin φ = ½ on its way up: π/6 + 2πk.
+        let k = ((phi0 - PI / 6.0) / (2.0 * PI)).ceil();
+        let expected = (PI / 6.0 + 2.0 * PI * k - phi0) / omega;
+        let lift = run.events.iter().find(|e| e.kind == EventKind::Liftoff);
+        let t = lift.map(|e| e.t);
+        assert!(
+            t.is_some_and(|t| (t - expected).abs() < 1e-8),
+            "φ0 = {phi0}, ω = {omega}: lifted off at {t:?}, expected {expected}"
+        );
     }
 }
