@@ -163,10 +163,13 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
 
     /// The constraints in the impact law when constraint `index` is reached at `t` in the state
     /// `y` (docs/contact-laws.md, law 2): `index`, the constraints held, and every other
-    /// constraint reached at the same instant, to the run's time resolution: `h` within the
-    /// distance its approach covers in that time (`max(−ḣ, 0)` times it) plus the rounding of
-    /// `h`, and `ḣ` not positive beyond its rounding. A constraint near in position but reached
-    /// later is a later impact of its own.
+    /// constraint reached at the same instant as `index`, to the run's time resolution, and not
+    /// leaving. How long each constraint still takes to reach its surface from `y` is
+    /// `max(h, 0) / −ḣ` (the event state may lie a little before the root, by the accuracy of
+    /// its location: two corners of a flat block landing together are both `1e-11` above the
+    /// floor there); another constraint joins where its time is within the resolution of that
+    /// of `index`, or where it is at its surface to the rounding of `h`. A constraint near in
+    /// position but reached later is a later impact of its own.
     pub(super) fn closed_set(
         &mut self,
         index: usize,
@@ -175,13 +178,21 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     ) -> Result<ActiveSet, Error> {
         let mut set = self.held().with(index);
         let m = self.sim.model.constraints().len();
-        let resolution = self.time_resolution(t);
         let (q, q_dot) = y.split_at(self.n);
+        let reached = self.surface(index, t, q, q_dot);
+        // The time at which `index` is reached, from `y`: 0 where it is reached already.
+        let lead = if reached.h > 0.0 && reached.a_q_dot < 0.0 {
+            reached.h / -reached.a_q_dot
+        } else {
+            0.0
+        };
+        let within = lead + self.time_resolution(t);
         let start = set;
         for other in (0..m).filter(|&i| !start.contains(i)) {
             let surface = self.surface(other, t, q, q_dot);
-            let reach = (-surface.a_q_dot).max(0.0) * resolution + START_ROUND_OFF * surface.h_scale;
-            if !(surface.h <= reach) {
+            let approach = (-surface.a_q_dot).max(0.0);
+            let reach = approach * within + START_ROUND_OFF * surface.h_scale;
+            if surface.h > reach || surface.h.is_nan() {
                 continue;
             }
             let normal = self.normal(other, t, q, q_dot)?;

@@ -206,7 +206,10 @@ fn a_wall_parallel_to_gravity_up_to_rounding_holds_the_point() {
         assert_eq!(run.events.len(), 1, "θ = {theta}: {:?}", run.events);
         assert!(run.zeno.is_empty(), "θ = {theta}: {:?}", run.zeno);
         assert!((run.events[0].t - 0.375).abs() < 1e-12);
-        assert!(matches!(run.final_mode, Mode::Constrained(_)), "θ = {theta}");
+        assert!(
+            matches!(run.final_mode, Mode::Constrained(_)),
+            "θ = {theta}"
+        );
         // Free fall along the wall: the height along `up` is 1 − g t²/2 (closed form).
         let q = &run.final_state.q;
         let height = q[0] * up[0] + q[1] * up[1];
