@@ -362,9 +362,13 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     /// sign change reveals, so that the body would pass through the surface unseen. A graze of
     /// a regular surface (`∂h/∂q` away from 0) is no error. The test is the one an impact makes
     /// ([`Runner::refuse_flat`]).
+    ///
+    /// The state there is read off the step's dense output (prepared), not stepped to: the
+    /// search goes on over the same step for the other constraints.
     fn touched(&mut self, index: usize, t: f64, held: ActiveSet) -> Result<(), Error> {
-        let mut y = self.state_at(t)?;
         let n = self.n;
+        let mut y = vec![0.0; 2 * n];
+        interpolate(&self.stepper, self.cubic, t, &mut y);
         // Best effort, as for the samples of the guard.
         let _ = project_onto(&self.mech, held, t, n, &mut y);
         let (q, q_dot) = y.split_at(n);

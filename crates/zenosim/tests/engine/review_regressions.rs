@@ -257,3 +257,53 @@ fn a_coordinate_with_a_tiny_weight_in_h_does_not_loosen_admissibility() {
         refused.err()
     );
 }
+
+/// A harmonic oscillator in `x` that comes within `1e-9` of a wall at `x = 1` without
+/// reaching it (`L = ½ (ẋ² + ẏ²) − ½ x²`, `x = sin t`), and a floor far below.
+struct GrazedWall {
+    constraints: [Constraint; 2],
+}
+
+impl HybridLagrangian for GrazedWall {
+    const DIMENSION: Option<usize> = Some(2);
+    fn dimension(&self) -> usize {
+        2
+    }
+    fn lagrangian<D: Scalar>(&self, q: &[D], v: &[D]) -> D {
+        (v[0] * v[0] + v[1] * v[1] - q[0] * q[0]) * 0.5
+    }
+    fn constraints(&self) -> &[Constraint] {
+        &self.constraints
+    }
+    fn constraint<D: Scalar>(&self, index: usize, q: &[D]) -> D {
+        if index == 0 {
+            -q[0] + (1.0 + 1e-9)
+        } else {
+            q[1] + 10.0
+        }
+    }
+}
+
+/// Regression: a constraint grazed in a step (checked for a surface without a normal at the
+/// touch) was checked on a state stepped to from the step's start, which left the integrator
+/// inside the step; the search of the next constraint over the same step then read a dense
+/// output that was gone: "Stepper::interpolate: call prepare_dense after each accepted step
+/// first", a panic (a slider-crank with clearance, at tolerances 1e-8 and 1e-12). The state at
+/// a touch is now read off the dense output.
+#[test]
+fn a_grazed_constraint_left_the_search_without_its_dense_output() {
+    let model = GrazedWall {
+        constraints: [Constraint::new("wall", 0.5), Constraint::new("floor", 0.5)],
+    };
+    let options = SimulationOptions {
+        t_end: 3.0,
+        ..Default::default()
+    };
+    let run = Simulation::new(&model, &[0.0, 0.0], &[1.0, 0.0], options)
+        .unwrap()
+        .run(&mut ());
+    assert_eq!(run.outcome, Outcome::Finished);
+    assert!(run.events.is_empty(), "{:?}", run.events);
+    // x = sin t (closed form): never reached the wall.
+    assert!((run.final_state.q[0] - 3.0_f64.sin()).abs() < 1e-8);
+}
