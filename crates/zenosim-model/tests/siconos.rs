@@ -536,8 +536,9 @@ fn column_of_beads_comes_to_rest_stacked() {
     }
 }
 
-/// The ported models that finish today at every tolerance.
-const FINISHING: [&str; 9] = [
+/// The ported models that finish today at every tolerance: all but the column of beads and the
+/// slider-cranks, whose tests are ignored above and below until the engine's fixes.
+const FINISHING: [&str; 10] = [
     "bouncing-ball-ed",
     "bouncing-ball-ed-resting-contact",
     "bouncing-ball-ed-two-contacts",
@@ -547,6 +548,7 @@ const FINISHING: [&str; 9] = [
     "linear-oscillator-ed",
     "ball-on-moving-plane",
     "impacting-bar",
+    "double-pendulum-ts",
 ];
 
 /// Every port that finishes reaches its t_end at tolerances 1e-6, 1e-8, 1e-10 and 1e-12,
@@ -682,6 +684,24 @@ fn double_pendulum_against_a_wall() {
             energy = pair[1].energy; // an impact: the level after it
         } else {
             assert!((pair[1].energy - energy).abs() <= 100.0 * tol * pair[1].t * energy.abs());
+        }
+    }
+}
+
+/// The two slider-cranks, at every tolerance: they must finish. Today the run panics
+/// (`Stepper::interpolate: call prepare_dense after each accepted step first`, from
+/// `first_crossing_or_touch` in free flight): `slider-crank-d1minus` at t = 0.1037 at every
+/// tolerance, `slider-crank-d1minus-velocity` at 1e-8.
+#[test]
+#[ignore = "the engine panics on the slider-crank (Stepper::interpolate called without \
+            prepare_dense, crates/zenosim/src/integrator/output.rs); un-ignore once fixed"]
+fn slider_cranks_finish_at_every_tolerance() {
+    for name in ["slider-crank-d1minus", "slider-crank-d1minus-velocity"] {
+        let file = model(name);
+        for tol in [1e-6, 1e-8, 1e-10, 1e-12] {
+            let (run, trajectory) = run_with(&file, Some(tol), None);
+            assert_eq!(run.outcome, Outcome::Finished, "{name} at {tol}");
+            check_physics(&file, &run, &trajectory, 1e-9);
         }
     }
 }
