@@ -705,3 +705,185 @@ fn slider_cranks_finish_at_every_tolerance() {
         }
     }
 }
+
+/// The normal velocity `ḣ` of constraint `index` in the state before `event`, by central
+/// differences along `q̇` (the constraints do not depend on time here).
+fn normal_velocity(file: &ModelFile, index: usize, q: &[f64], q_dot: &[f64]) -> f64 {
+    let delta = 1e-7 / q_dot.iter().fold(1e-300, |m: f64, v| m.max(v.abs()));
+    let along = |s: f64| -> Vec<f64> { q.iter().zip(q_dot).map(|(x, v)| x + s * v).collect() };
+    let h = |s: f64| file.model.constraint(index, &along(s));
+    (h(delta) - h(-delta)) / (2.0 * delta)
+}
+
+/// A slider-crank against its reference up to `window` (s): the impacts, split at the Zeno
+/// points (within an accumulation the reference lists more impacts than a run resolves
+/// before it switches, so each accumulation's impacts are compared with its first ones), each
+/// accumulation's Zeno time and constraints, and the lift-offs. The flows are integrated:
+/// bounds `100 tol t` (the phase drift of the integration, as for the pendulum) plus, for an
+/// impact, the rounding of the gap (`64 ε` times its terms, 0.026 m) over the normal speed
+/// `|ḣ|` it is reached at (near a Zeno point an error `δ` in `h` shifts an impact by
+/// `δ/|ḣ|`); for a Zeno time, its last impact's bound times `(1 + e)/(1 − e)` (`τ∞` is predicted
+/// from that impact's rebound, `e` times the approach speed, whose error is `|ḧ|` times the
+/// impact time's). Returns the largest error of each kind: impacts, Zeno times, lift-offs.
+fn slider_crank_against_reference(name: &str, window: f64) -> (f64, f64, f64) {
+    let file = model(name);
+    let reference = reference(name);
+    let (run, trajectory) = run_with(&file, None, Some(window));
+    assert_eq!(run.outcome, Outcome::Finished, "{name}");
+    check_physics(&file, &run, &trajectory, 1e-9);
+    let tol = DEFAULT_TOLERANCE;
+    let e = parameter(&file, "e");
+    let gap_rounding = 64.0 * f64::EPSILON * 0.026;
+    let times = |key: &str| -> Vec<(f64, Vec<String>)> {
+        reference[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| {
+                let list = x.get("contacts").or_else(|| x.get("constraints")).unwrap();
+                (x["t"].as_f64().unwrap(), names(list))
+            })
+            .filter(|(t, _)| *t <= window)
+            .collect()
+    };
+    let (ref_impacts, ref_zeno, ref_liftoffs) =
+        (times("impacts"), times("zeno"), times("liftoffs"));
+    assert_eq!(
+        run.zeno.len(),
+        ref_zeno.len(),
+        "{name}: Zeno points before {window}"
+    );
+    let mut worst = (0.0_f64, 0.0_f64, 0.0_f64);
+    // Segments: the impacts before each Zeno point, then those after the last.
+    let mut start_ref = 0;
+    let mut start_run = 0;
+    let got = impacts(&run);
+    for segment in 0..=ref_zeno.len() {
+        let end_ref = ref_zeno.get(segment).map_or(ref_impacts.len(), |(t, _)| {
+            ref_impacts
+                .iter()
+                .position(|(s, _)| s > t)
+                .unwrap_or(ref_impacts.len())
+        });
+        let end_run = run.zeno.get(segment).map_or(got.len(), |z| {
+            got.iter()
+                .position(|i| i.t > z.t_switch)
+                .unwrap_or(got.len())
+        });
+        let (ours, theirs) = (&got[start_run..end_run], &ref_impacts[start_ref..end_ref]);
+        if segment < ref_zeno.len() {
+            assert!(
+                ours.len() <= theirs.len() && ours.len() >= 3,
+                "{name}: segment {segment}"
+            );
+        } else {
+            assert_eq!(
+                ours.len(),
+                theirs.len(),
+                "{name}: impacts after the last Zeno point"
+            );
+        }
+        let mut last_bound = 0.0;
+        for (event, (t_ref, contacts)) in ours.iter().zip(theirs) {
+            let h_dot = event
+                .contacts
+                .iter()
+                .map(|i| normal_velocity(&file, i, &event.before.q, &event.before.q_dot).abs())
+                .fold(0.0_f64, f64::max);
+            let bound = 100.0 * tol * t_ref + gap_rounding / h_dot;
+            let error = (event.t - t_ref).abs();
+            worst.0 = worst.0.max(error);
+            assert!(
+                error <= bound,
+                "{name}: impact at {} against {t_ref} (error {error:e}, bound {bound:e})",
+                event.t
+            );
+            assert_eq!(
+                &set_names(&file, event.contacts),
+                contacts,
+                "{name} at {}",
+                event.t
+            );
+            last_bound = bound;
+        }
+        if let Some((t_ref, constraints)) = ref_zeno.get(segment) {
+            let zeno = &run.zeno[segment];
+            let error = (zeno.t_zeno - t_ref).abs();
+            worst.1 = worst.1.max(error);
+            let bound = last_bound * (1.0 + e) / (1.0 - e);
+            assert!(
+                error <= bound,
+                "{name}: Zeno time {} against {t_ref} (error {error:e}, bound {bound:e})",
+                zeno.t_zeno
+            );
+            assert_eq!(&set_names(&file, zeno.constraints), constraints);
+        }
+        start_ref = end_ref;
+        start_run = end_run;
+    }
+    let liftoffs: Vec<&zenosim::Event> = run
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Liftoff)
+        .collect();
+    assert_eq!(liftoffs.len(), ref_liftoffs.len(), "{name}: lift-offs");
+    for (event, (t_ref, constraints)) in liftoffs.iter().zip(&ref_liftoffs) {
+        let error = (event.t - t_ref).abs();
+        worst.2 = worst.2.max(error);
+        assert!(
+            error <= 100.0 * tol * t_ref,
+            "{name}: lift-off at {}",
+            event.t
+        );
+        assert_eq!(&set_names(&file, event.contacts), constraints);
+    }
+    // The slider stays flat: its impacts are on both corners of a side at once, with equal
+    // impulses, and nothing else turns it.
+    for p in &trajectory.points {
+        assert!(
+            p.q[2].abs() <= 1e-12 && p.q_dot[2].abs() <= 1e-9,
+            "{name}: {p:?}"
+        );
+    }
+    worst
+}
+
+/// SliderCrankD1MinusLinear.cpp (e = 0.1) over its first 0.02 s: the slider, flat, strikes the
+/// top of the guide with both upper corners at once, its rebounds accumulate at a Zeno point
+/// (t = 0.0033454), the guide holds it, and it lifts off at t = 0.015023. Measured at the
+/// default tolerance: impacts to 1.1e-12 s, the Zeno time to 1.3e-12 s, the lift-off to 4e-14 s.
+/// SliderCrankD1MinusLinearVelocityLevel.cpp (e = 0.4) over its first 0.007 s: its first two
+/// impacts, on the top then on the bottom (the third, at 0.0074656, is where the engine's
+/// split of the two corners begins: see the ignored test below).
+#[test]
+fn slider_crank_first_zeno_point_and_liftoff() {
+    let (impacts, zeno, liftoffs) = slider_crank_against_reference("slider-crank-d1minus", 0.02);
+    assert!(impacts > 0.0 && zeno > 0.0 && liftoffs > 0.0);
+    slider_crank_against_reference("slider-crank-d1minus-velocity", 0.007);
+}
+
+/// Both slider-cranks over the reference's whole window (0.03 s): every impact on both corners
+/// of a side at once, the Zeno points and lift-offs of the flat slider. Today the engine takes
+/// the two corners' landing as a sequence of impacts on one corner at a time at the same
+/// instant (the other corner's gap, equal to the first's at the located event, is not joined
+/// into the impact law), which turns the slider, ends in a chattering Zeno point and drops the
+/// rebound: `slider-crank-d1minus` lands on the bottom at t = 0.025873 and is held there,
+/// where the flat slider rebounds and accumulates at t = 0.026725.
+#[test]
+#[ignore = "the engine splits the simultaneous landing of two symmetric corners into \
+            alternating single-corner impacts (closed_set in crates/zenosim/src/run/flight.rs); \
+            un-ignore once fixed"]
+fn slider_cranks_follow_the_flat_slider() {
+    for name in ["slider-crank-d1minus", "slider-crank-d1minus-velocity"] {
+        slider_crank_against_reference(name, 0.03);
+        let file = model(name);
+        let reference = reference(name);
+        let (run, _) = run_with(&file, None, Some(0.03));
+        compare_final(
+            &file,
+            &run,
+            &reference,
+            &[100.0 * DEFAULT_TOLERANCE * 0.03 * 150.0; 6],
+        );
+    }
+}
