@@ -357,3 +357,121 @@ def default_tol_ed(sk):
 
 if __name__ == "__main__":
     child(sys.argv[1])
+
+
+# --------------------------------------------------------------------------------------------
+# D1MinusLinearOSI: not in the Python bindings; d1minus_runner.cpp, compiled at run time.
+
+D1MINUS_TYPES = {"halfexplicit_acceleration_level": 0, "halfexplicit_velocity_level": 3}
+
+
+def compile_d1minus_runner(workdir):
+    """Compiles d1minus_runner.cpp against Siconos's kernel (Debian's libsiconos-kernel-dev,
+    which python3-siconos brings); returns the binary's path or raises."""
+    cxx = os.environ.get("CXX") or shutil.which("c++") or shutil.which("g++")
+    if not cxx:
+        raise RuntimeError("no C++ compiler (c++) for d1minus_runner.cpp")
+    exe = os.path.join(workdir, "d1minus_runner")
+    cmd = [cxx, "-O2", "-std=c++17", "-I/usr/include/siconos", "-I/usr/include/siconos/kernel",
+           "-I/usr/include/siconos/numerics", "-o", exe, os.path.join(HERE, "d1minus_runner.cpp"),
+           "-lsiconos_kernel", "-lsiconos_numerics"]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise RuntimeError(f"d1minus_runner.cpp did not compile: {proc.stderr.strip()[-800:]}")
+    return exe
+
+
+def d1minus_job_text(spec, scheme, libs, repeats, progress, out):
+    def nums(xs):
+        return " ".join(f"{float(x):.17g}" for x in xs)
+
+    lines = [f"{spec.get('t0', 0.0):.17g} {spec['t_end']:.17g} {scheme['h']:.17g} "
+             f"{D1MINUS_TYPES[scheme.get('type', 'halfexplicit_acceleration_level')]}",
+             f"{repeats} {progress} {out}", str(len(spec["ds"]))]
+    for d in spec["ds"]:
+        n = len(d["q0"])
+        if d["kind"] == "linear":
+            lines.append(f"0 {n} {nums(d['q0'])} {nums(d['v0'])}")
+            lines.append(nums(x for row in d["mass"] for x in row))
+            if d.get("K") is not None:
+                lines.append("1 " + nums(x for row in d["K"] for x in row))
+            else:
+                lines.append("0")
+            lines.append(nums(d.get("fext") or [0.0] * n))
+        elif d["kind"] == "plugin":
+            fn = d["functions"]
+            names = [fn.get(k, "-") for k in ("FGyr", "jacobianFGyrq", "jacobianFGyrqDot",
+                                              "FInt", "jacobianFIntq", "jacobianFIntqDot")]
+            lines.append(f"1 {n} {nums(d['q0'])} {nums(d['v0'])}")
+            lines.append(f"{libs[d['plugin']]} {fn['mass']} {' '.join(names)}")
+            lines.append(("1 " + nums(d["fext"])) if d.get("fext") is not None else "0")
+        else:
+            raise ValueError(f"d1minus_runner: no {d['kind']} DS")
+    lines.append(str(len(spec["interactions"])))
+    for it in spec["interactions"]:
+        r = it["relation"]
+        head = f"{it['e']:.17g} {len(it['ds'])} {' '.join(str(i) for i in it['ds'])}"
+        if r["kind"] == "linear":
+            lines.append(f"{head} 0 {len(r['C'][0])} {nums(r['C'][0])} "
+                         f"{(r.get('offset') or [0.0])[0]:.17g}")
+        else:
+            lines.append(f"{head} 1 {libs[r['plugin']]} {r['h']} {r['G0']} "
+                         f"{r.get('dotG0') or '-'}")
+    return "\n".join(lines) + "\n"
+
+
+def run_d1minus(runner, spec, scheme, libs, workdir, timeout, repeat_below, min_time):
+    """One D1Minus run (and its timing repeats) through the runner; the result as run_once's."""
+    progress = os.path.join(workdir, "progress.json")
+    out = os.path.join(workdir, "d1minus-out.json")
+    job = os.path.join(workdir, "d1minus-job.txt")
+    names = [it["name"] for it in spec["interactions"]]
+
+    def once(repeats, limit):
+        for p in (progress, out):
+            if os.path.exists(p):
+                os.remove(p)
+        with open(job, "w") as f:
+            f.write(d1minus_job_text(spec, scheme, libs, repeats, progress, out))
+        try:
+            proc = subprocess.run([runner, job], capture_output=True, text=True, timeout=limit)
+        except subprocess.TimeoutExpired:
+            return None, ""
+        if not os.path.exists(out):
+            return {"status": "crashed", "returncode": proc.returncode}, proc.stdout + proc.stderr
+        with open(out) as f:
+            return json.load(f), proc.stdout
+
+    begin = time.perf_counter()
+    res, text = once(1, timeout)
+    if res is None or res.get("status") == "crashed":
+        reached = None
+        if os.path.exists(progress):
+            try:
+                with open(progress) as f:
+                    reached = json.load(f).get("t")
+            except (OSError, ValueError):
+                reached = None
+        elapsed = time.perf_counter() - begin
+        status = "stalled" if res is None else "crashed"
+        reason = (f"no t_end within the {timeout:g} s wall-time limit" if res is None
+                  else f"the runner ended with status {res.get('returncode')} and no result")
+        return {"status": status, "reason": reason, "t_reached": reached,
+                "stdout": text[-2000:],
+                "wall_time_s": {"median": elapsed, "repeats": 1, "limit_hit": res is None}}
+    walls = list(res["wall_time_s"])
+    if walls and walls[0] < repeat_below:
+        repeats = max(3, min(1000, int(min_time / max(walls[0], 1e-6)) + 1))
+        again, _ = once(repeats, timeout)
+        if again is not None and again.get("wall_time_s"):
+            walls = list(again["wall_time_s"])
+    for ev in res["events"]:
+        ev["impulse"] = dict(zip(names, ev["impulse"]))
+    if res.get("final"):
+        res["final"]["lambda"] = {n: v for n, v in zip(names, res["final"]["lambda"])}
+    res["ns_events"] = None
+    res["wall_time_s"] = {"median": statistics.median(walls) if walls else None,
+                          "min": min(walls) if walls else None,
+                          "max": max(walls) if walls else None, "repeats": len(walls)}
+    res["siconos_stdout_tail"] = text[-2000:]
+    return res

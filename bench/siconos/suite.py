@@ -148,9 +148,10 @@ def file_h_dot(model, t, q, v, step=1e-6):
             for k in jac}
 
 
-def file_dynamics(model, t, q, v, d=1e-4):
+def file_dynamics(model, t, q, v, d=1e-4, dv=0.5):
     """M = d2L/dv2 and F = dL/dq - (d2L/dv dq) v - d2L/dv dt + Q - dD/dv, by central differences
-    of the file's formulas (exact up to rounding for L quadratic in v)."""
+    of the file's formulas: steps dv in the velocities (exact up to rounding for L and D
+    quadratic in them, as in every file here) and d in positions and time."""
     n = len(q)
     lag = model["lagrangian"]
 
@@ -163,9 +164,9 @@ def file_dynamics(model, t, q, v, d=1e-4):
         return y
 
     def dL_dv(tt, qq, vv, i):
-        return (L(tt, qq, shifted(vv, i, d)) - L(tt, qq, shifted(vv, i, -d))) / (2 * d)
+        return (L(tt, qq, shifted(vv, i, dv)) - L(tt, qq, shifted(vv, i, -dv))) / (2 * dv)
 
-    mass = [[(dL_dv(t, q, shifted(v, j, d), i) - dL_dv(t, q, shifted(v, j, -d), i)) / (2 * d)
+    mass = [[(dL_dv(t, q, shifted(v, j, dv), i) - dL_dv(t, q, shifted(v, j, -dv), i)) / (2 * dv)
              for j in range(n)] for i in range(n)]
     force = []
     for i in range(n):
@@ -180,8 +181,8 @@ def file_dynamics(model, t, q, v, d=1e-4):
             f += model["forces"][c](env(model, t, q, v))
         if model["dissipation"] is not None:
             dis = model["dissipation"]
-            f -= (dis(env(model, t, q, shifted(v, i, d)))
-                  - dis(env(model, t, q, shifted(v, i, -d)))) / (2 * d)
+            f -= (dis(env(model, t, q, shifted(v, i, dv)))
+                  - dis(env(model, t, q, shifted(v, i, -dv)))) / (2 * dv)
         force.append(f)
     return mass, force
 
@@ -521,13 +522,22 @@ def siconos_rows(model, ref, example, spec, libs, args, workdir):
             settings.append((label, s))
     for label, scheme in settings:
         row = {"tool": "Siconos", "setting": label, "scheme": scheme}
-        if scheme.get("osi") not in (None, "MoreauJeanOSI"):
-            row.update({"status": "not run", "outcome": "not run", "metrics": {},
-                        "note": f"not run: {scheme['osi']} is not in the Python bindings of "
-                                "Debian's python3-siconos 4.4"})
-            rows.append(row)
-            continue
-        run = run_siconos(spec, scheme, libs, args, workdir)
+        if scheme.get("osi") == "D1MinusLinearOSI":
+            if isinstance(args.d1minus_runner, Exception) or args.d1minus_runner is None:
+                if args.d1minus_runner is None:
+                    try:
+                        args.d1minus_runner = siconos_side.compile_d1minus_runner(args.build_dir)
+                    except Exception as err:
+                        args.d1minus_runner = err
+                if isinstance(args.d1minus_runner, Exception):
+                    row.update({"status": "not run", "outcome": "not run", "metrics": {},
+                                "note": f"not run: {args.d1minus_runner}"})
+                    rows.append(row)
+                    continue
+            run = siconos_side.run_d1minus(args.d1minus_runner, spec, scheme, libs, workdir,
+                                           args.timeout, args.repeat_below, args.min_time)
+        else:
+            run = run_siconos(spec, scheme, libs, args, workdir)
         events = run.get("events") or []
         if scheme["kind"] == "ED":
             evs = [{"t": e["t"], "q": join_state(spec, model, e["q"]),
@@ -710,6 +720,7 @@ def main():
         "examples": args.examples, "results": {},
     }
     workdir = tempfile.mkdtemp(prefix="zenosim-siconos-suite-")
+    args.build_dir, args.d1minus_runner = workdir, None
     try:
         for name in args.examples:
             example = importlib.import_module(f"examples.{EXAMPLES[name]}")
