@@ -228,7 +228,7 @@ int main(int argc, char **argv) {
                    << ", \"impulse\": " << imp.str() << "}";
           }
         }
-        b.sim->nextStep();
+        b.sim->processEvents();
         auto now = std::chrono::steady_clock::now();
         if (record && std::chrono::duration<double>(now - last).count() > 0.25) {
           last = now;

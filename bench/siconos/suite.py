@@ -228,6 +228,7 @@ def check_spec(model, spec, plugins, example, states=6):
         raise ValueError(f"{model['name']}: the Siconos interactions {sorted(names)} are not the "
                          f"file's constraints {sorted(c['name'] for c in model['constraints'])}")
     scale_q = [max(abs(x), 1e-3) for x in model["q0"]]
+    scales = {"mass": 0.0, "force": 0.0}  # mass and force: relative to their largest entry
     for s in range(states):
         t = model["t_end"] * rng.random() if s else 0.0
         q = [a + (0.05 * sc * rng.uniform(-1, 1) if s else 0.0)
@@ -249,12 +250,12 @@ def check_spec(model, spec, plugins, example, states=6):
                 for b, ib in enumerate(idx):
                     if ib is not None:
                         sic_mass[ia][ib] = m[a][b]
-        mscale = max(abs(x) for row in mass for x in row) or 1.0
+        scales["mass"] = max(scales["mass"], max(abs(x) for row in mass for x in row))
         worst["mass"] = max(worst["mass"], max(abs(a - b) for ra, rb in zip(mass, sic_mass)
-                                               for a, b in zip(ra, rb)) / mscale)
-        fscale = max(max(abs(x) for x in force), 1e-300)
+                                               for a, b in zip(ra, rb)))
+        scales["force"] = max(scales["force"], max(abs(x) for x in force))
         worst["force"] = max(worst["force"],
-                             max(abs(a - b) for a, b in zip(force, sic_force)) / fscale)
+                             max(abs(a - b) for a, b in zip(force, sic_force)))
         hs = file_h(model, t, q)
         jac = file_jac(model, t, q)
         for it in spec["interactions"]:
@@ -270,6 +271,8 @@ def check_spec(model, spec, plugins, example, states=6):
             jscale = max(max(abs(x) for x in jac[name]), 1e-300)
             worst["dh_dq"] = max(worst["dh_dq"],
                                  max(abs(a - b) for a, b in zip(jac[name], sic)) / jscale)
+    for k in ("mass", "force"):
+        worst[k] = worst[k] / scales[k] if scales[k] > 0 else worst[k]
     extra = example.check_extra(model, spec, plugins) if hasattr(example, "check_extra") else {}
     worst.update(extra)
     limits = {"mass": 1e-6, "force": 1e-5, "h": 1e-12, "dh_dq": 1e-6}
