@@ -434,6 +434,10 @@ def run_siconos(spec, scheme, libs, args, workdir):
     with open(out_path) as f:
         run = json.load(f)
     run["siconos_output"] = peer.siconos_message(stdout)
+    if run.get("status") != "finished" and not run["siconos_output"]:
+        # nothing matched peer's keywords: the last lines Siconos printed
+        run["siconos_output"] = [ln.strip() for ln in (stdout + stderr).splitlines()
+                                 if ln.strip()][-3:]
     return run
 
 
@@ -682,6 +686,26 @@ def examples_commit():
     return "b6c9bfd1940a69dae512a3e39cf5f1a951e3eebe"
 
 
+def render(path, out):
+    with open(path) as f:
+        results = json.load(f)
+    for name, ex in results["results"].items():
+        if name in EXAMPLES:
+            example = importlib.import_module(f"examples.{EXAMPLES[name]}")
+            ex["discussion"] = getattr(example, "DISCUSSION", "").strip()
+    md = table(results)
+    if results.get("peer"):
+        md += "\n" + peer.table(results["peer"]).replace("# zenosim against",
+                                                         "# Part 2: zenosim against", 1)
+    with open(os.path.join(out, "results.md"), "w") as f:
+        f.write(md)
+    with open(path, "w") as f:
+        json.dump(results, f, indent=1, default=str)
+        f.write("\n")
+    log(f"suite: wrote {os.path.join(out, 'results.md')}")
+    return 0
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -703,7 +727,12 @@ def main():
     parser.add_argument("--no-peer", action="store_true",
                         help="leave out the three multi-contact models of peer.py")
     parser.add_argument("--out", default=HERE)
+    parser.add_argument("--render", metavar="RESULTS_JSON",
+                        help="only write results.md again from a results.json (with the "
+                             "examples' current DISCUSSION paragraphs)")
     args = parser.parse_args()
+    if args.render:
+        return render(args.render, args.out)
     args.examples = [e for e in args.examples.split(",") if e]
     args.tolerances = [float(t) for t in args.tolerances.split(",") if t]
     args.toled = [v for v in args.toled.split(",") if v]
