@@ -607,6 +607,10 @@ def table(results):
                  f"TOL_ED its default ({results['siconos']['toled_default']:.3g}) or tol; "
                  f"Siconos time-stepping: the example's integrator at the example's step h and "
                  f"others; wall-time limit {results['timeout_s']:g} s per run")
+    for u in results.get("updates") or []:
+        zc = ((u.get("zenosim") or {}).get("version") or {}).get("git", {}).get("commit", "?")
+        lines.append(f"- {u['example']}: run again on {u['date']} (zenosim commit {zc[:12]}; "
+                     f"load average {u['load_before']} before, {u['load_after']} after)")
     lines.append("")
     lines.append("Impacts: how many the tool had (per contact where several). Impact t: max "
                  "|t − t_ref| over the impacts matched with the reference's (per contact, the "
@@ -727,6 +731,9 @@ def main():
     parser.add_argument("--no-peer", action="store_true",
                         help="leave out the three multi-contact models of peer.py")
     parser.add_argument("--out", default=HERE)
+    parser.add_argument("--update", action="store_true",
+                        help="run only --examples and put their results into the existing "
+                             "results.json of --out (the rest, peer models included, kept)")
     parser.add_argument("--render", metavar="RESULTS_JSON",
                         help="only write results.md again from a results.json (with the "
                              "examples' current DISCUSSION paragraphs)")
@@ -793,6 +800,18 @@ def main():
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
     results["load_after"] = load_avg()
+    if args.update:
+        with open(os.path.join(args.out, "results.json")) as f:
+            old = json.load(f)
+        for name in args.examples:
+            old["results"][name] = results["results"][name]
+            old.setdefault("updates", []).append(
+                {"example": name, "date": results["date"], "load_before": results["load_before"],
+                 "load_after": results["load_after"], "zenosim": results["zenosim"]})
+        with open(os.path.join(args.out, "results.json"), "w") as f:
+            json.dump(old, f, indent=1, default=str)
+            f.write("\n")
+        return render(os.path.join(args.out, "results.json"), args.out)
     md = table(results)
     if not args.no_peer:
         peer_args = argparse.Namespace(
