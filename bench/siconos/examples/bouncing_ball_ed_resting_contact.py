@@ -12,4 +12,6 @@ def spec(model):
     return one_body(model, ball(model))
 
 
-DISCUSSION = ""
+DISCUSSION = """One plastic impact, then the floor holds the ball: both tools get the impact time to
+rounding (Siconos 5.5e-11 at 1e-6, exact at 1e-12) and the resting state exactly. Nothing to
+choose between them but the time (0.007 ms against 16 ms)."""

