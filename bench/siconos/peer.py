@@ -1005,38 +1005,9 @@ def table(results):
     return "\n".join(lines)
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--zenosim", default=os.path.join(ROOT, "target", "release", "zenosim"),
-                        help="the zenosim binary [default: target/release/zenosim]")
-    parser.add_argument("--models", default=",".join(MODELS),
-                        help=f"comma-separated [default: {','.join(MODELS)}]")
-    parser.add_argument("--tolerances", default=",".join(f"{t:g}" for t in TOLERANCES),
-                        help="rtol = atol for both tools, comma-separated")
-    parser.add_argument("--toled", default="default,scaled",
-                        help="Siconos TOL_ED variants: default (Siconos's own) and/or scaled "
-                             "(--toled-scale times tol) [default: both]")
-    parser.add_argument("--toled-scale", type=float, default=TOLED_SCALE,
-                        help=f"TOL_ED = this times tol in the scaled variant [default: {TOLED_SCALE:g}]")
-    parser.add_argument("--timeout", type=float, default=60.0,
-                        help="wall-time limit of one run, seconds [default: 60]")
-    parser.add_argument("--min-time", type=float, default=0.5,
-                        help="time each run repeatedly for at least this long [default: 0.5]")
-    parser.add_argument("--repeat-below", type=float, default=2.0,
-                        help="repeat a Siconos run for timing only if it took less [default: 2]")
-    parser.add_argument("--no-zenosim", action="store_true", help="Siconos only")
-    parser.add_argument("--out", default=HERE,
-                        help="where results.md and results.json go [default: bench/siconos]")
-    parser.add_argument("--child", help=argparse.SUPPRESS)
-    args = parser.parse_args()
-    if args.child:
-        siconos_child(args)
-        return 0
-    args.models = [m for m in args.models.split(",") if m]
-    args.tolerances = [float(t) for t in args.tolerances.split(",") if t]
-    variants = [v for v in args.toled.split(",") if v]
-
+def run_all(args):
+    """Every model and tolerance of args (models, tolerances, toled, toled_scale, timeout,
+    min_time, repeat_below, no_zenosim, zenosim): the results as main writes them."""
     import siconos.kernel as sk
     toled_default = default_tol_ed(sk)
     zenosim = os.path.abspath(args.zenosim)
@@ -1119,7 +1090,7 @@ def main():
                 mres["rows"].append(row)
                 log(f"peer: {name} zenosim tol {tol:g}: {row['outcome']}")
             # Siconos
-            for variant in variants:
+            for variant in args.toled:
                 for tol in args.tolerances:
                     toled = None if variant == "default" else args.toled_scale * tol
                     label = f"{tol:g}" + ("" if variant == "default"
@@ -1158,15 +1129,53 @@ def main():
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
 
+    return results
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--zenosim", default=os.path.join(ROOT, "target", "release", "zenosim"),
+                        help="the zenosim binary [default: target/release/zenosim]")
+    parser.add_argument("--models", default=",".join(MODELS),
+                        help=f"comma-separated [default: {','.join(MODELS)}]")
+    parser.add_argument("--tolerances", default=",".join(f"{t:g}" for t in TOLERANCES),
+                        help="rtol = atol for both tools, comma-separated")
+    parser.add_argument("--toled", default="default,scaled",
+                        help="Siconos TOL_ED variants: default (Siconos's own) and/or scaled "
+                             "(--toled-scale times tol) [default: both]")
+    parser.add_argument("--toled-scale", type=float, default=TOLED_SCALE,
+                        help=f"TOL_ED = this times tol in the scaled variant [default: {TOLED_SCALE:g}]")
+    parser.add_argument("--timeout", type=float, default=60.0,
+                        help="wall-time limit of one run, seconds [default: 60]")
+    parser.add_argument("--min-time", type=float, default=0.5,
+                        help="time each run repeatedly for at least this long [default: 0.5]")
+    parser.add_argument("--repeat-below", type=float, default=2.0,
+                        help="repeat a Siconos run for timing only if it took less [default: 2]")
+    parser.add_argument("--no-zenosim", action="store_true", help="Siconos only")
+    parser.add_argument("--out", default=HERE,
+                        help="where results-peer.md and results-peer.json go [default: bench/siconos]")
+    parser.add_argument("--child", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.child:
+        siconos_child(args)
+        return 0
+    args.models = [m for m in args.models.split(",") if m]
+    args.tolerances = [float(t) for t in args.tolerances.split(",") if t]
+    args.toled = [v for v in args.toled.split(",") if v]
+
+    results = run_all(args)
     md = table(results)
     print(md)
     os.makedirs(args.out, exist_ok=True)
-    with open(os.path.join(args.out, "results.md"), "w") as f:
+    # suite.py writes results.md and results.json (this section included); peer.py alone
+    # writes its own files beside them
+    with open(os.path.join(args.out, "results-peer.md"), "w") as f:
         f.write(md)
-    with open(os.path.join(args.out, "results.json"), "w") as f:
+    with open(os.path.join(args.out, "results-peer.json"), "w") as f:
         json.dump(results, f, indent=1, default=str)
         f.write("\n")
-    log(f"peer: wrote {os.path.join(args.out, 'results.md')} and results.json")
+    log(f"peer: wrote {os.path.join(args.out, 'results-peer.md')} and results-peer.json")
     return 0
 
 

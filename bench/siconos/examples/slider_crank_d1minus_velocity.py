@@ -1,0 +1,40 @@
+"""SliderCrank/SliderCrankD1MinusLinearVelocityLevel.cpp: a slider-crank whose slider has a clearance in its
+guide (four corner contacts), e = 0.4, TimeSteppingD1Minus + D1MinusLinearOSI
+(halfexplicit_velocity_level), h = 1e-5, to T = 0.2."""
+
+from examples import constraint, time_steps
+
+EXAMPLE = "examples/mechanics/SliderCrank/SliderCrankD1MinusLinearVelocityLevel.cpp"
+SCHEME = {"kind": "TS", "osi": "D1MinusLinearOSI", "type": "halfexplicit_velocity_level",
+          "h": 1e-5}
+SCHEME_TEXT = ("TimeSteppingD1Minus + D1MinusLinearOSI (halfexplicit_velocity_level), LCPs "
+               "at velocity and acceleration level, h = 1e-5; LagrangianDS and "
+               "LagrangianScleronomousR from C plugins (plugins/slider_crank.c), run through "
+               "d1minus_runner.cpp")
+
+
+def steps(base):
+    return time_steps(base, (4.0, 1.0, 0.25))
+
+
+def spec(model):
+    p = model["params"]
+    names = ("mass", "FGyr", "jacobianFGyrq", "jacobianFGyrqDot", "FInt", "jacobianFIntq",
+             "jacobianFIntqDot")
+    return {
+        "t_end": model["t_end"],
+        "ds": [{"kind": "plugin", "coords": ["q1", "q2", "q3"], "q0": model["q0"],
+                "v0": model["v0"], "plugin": "crank", "functions": {k: k for k in names}}],
+        "interactions": [
+            {"name": f"g{k}", "e": constraint(model, f"g{k}")["e"], "ds": [0],
+             "relation": {"kind": "scleronomous", "plugin": "crank", "h": f"g{k}",
+                          "G0": f"W{k}", "dotG0": f"W{k}dot"}} for k in (1, 2, 3, 4)],
+        "plugins": {"crank": {"source": "slider_crank.c",
+                              "defines": {"L1": p["l1"], "L2": p["l2"], "A": p["a"],
+                                          "B": p["b"], "D": p["d"], "M1": p["m1"],
+                                          "M2": p["m2"], "M3": p["m3"], "J1": p["J1"],
+                                          "J2": p["J2"], "J3": p["J3"], "G": p["g"]}}},
+    }
+
+
+DISCUSSION = ""
