@@ -538,7 +538,7 @@ fn configuration(model: &str, p: &[f64]) -> Option<Vec<f64>> {
     match model {
         "bouncing-ball" | "dragged-ball" | "vibrating-table" => Some(vec![p[1]]),
         "damped-oscillator" => Some(vec![p[0]]),
-        "corner" | "floor-and-wall" | "ball-off-cylinder" => Some(vec![p[0], p[1]]),
+        "corner" | "floor-and-wall" | "ball-off-cylinder" | "v-groove" => Some(vec![p[0], p[1]]),
         "ball-on-sine" | "ball-on-sine-demo" => Some(vec![0.0, p[0], p[1]]),
         _ => None,
     }
@@ -553,7 +553,7 @@ fn every_shipped_model_draws_every_constraint() {
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .collect();
     files.sort();
-    assert_eq!(files.len(), 16, "{files:?}");
+    assert_eq!(files.len(), 17, "{files:?}");
     let mut checked_on_surface = 0;
     for path in &files {
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();
@@ -606,6 +606,7 @@ fn every_shipped_model_draws_every_constraint() {
         );
     }
     // 2 each for the 3 balls on a line and the oscillator, 3 + 4 + 4 for the corner, the floor
-    // and wall and the floor of the cylinder, 97 on the cylinder, 121 on each sine.
-    assert_eq!(checked_on_surface, 4 * 2 + 4 + 4 + 2 + 97 + 2 * 121);
+    // and wall and the floor of the cylinder, 97 on the cylinder, 121 on each sine, 4 for the
+    // groove's two walls.
+    assert_eq!(checked_on_surface, 4 * 2 + 4 + 4 + 2 + 97 + 2 * 121 + 4);
 }

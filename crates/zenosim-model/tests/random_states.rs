@@ -339,6 +339,20 @@ fn corner(file: &ModelFile, u: &[f64; 8]) -> State {
     )
 }
 
+/// The V-groove: anywhere in the wedge up to twice the starting height, at up to the speed
+/// a fall from there gives.
+fn v_groove(file: &ModelFile, u: &[f64; 8]) -> State {
+    let (k, y0, g) = (
+        parameter(file, "k"),
+        parameter(file, "y0"),
+        parameter(file, "g"),
+    );
+    let y = 2.0 * y0 * u[0];
+    let x = lerp(u[1], -y / k, y / k);
+    let s = (2.0 * g * 2.0 * y0).sqrt();
+    (vec![x, y], vec![lerp(u[2], -s, s), lerp(u[3], -s, s)])
+}
+
 /// The floor and the wall: between the wall and twice its distance behind, up to a metre
 /// high, at up to twice the shipped speed.
 fn floor_and_wall(file: &ModelFile, u: &[f64; 8]) -> State {
@@ -432,7 +446,7 @@ fn table(file: &ModelFile, u: &[f64; 8]) -> State {
     )
 }
 
-const SPECS: [Spec; 16] = [
+const SPECS: [Spec; 17] = [
     Spec {
         file: "ball-off-cylinder.toml",
         base: ball_off_cylinder,
@@ -524,6 +538,12 @@ const SPECS: [Spec; 16] = [
         file: "table.toml",
         base: table,
         seed: 12,
+        closest: None,
+    },
+    Spec {
+        file: "v-groove.toml",
+        base: v_groove,
+        seed: 17,
         closest: None,
     },
     Spec {
@@ -1134,6 +1154,11 @@ fn spherical_pendulum_random_states() {
 #[test]
 fn table_random_states() {
     check_model("table.toml");
+}
+
+#[test]
+fn v_groove_random_states() {
+    check_model("v-groove.toml");
 }
 
 #[test]
