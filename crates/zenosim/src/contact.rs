@@ -1,16 +1,20 @@
-//! Several contacts at one state (docs/contact-laws.md): the Delassus matrix of a set of
-//! constraints, the motion held on the set, the impact law on the set (the generalized Newton
-//! law, an LCP), the contact forces that decide which constraints hold (law 1, an LCP), and the
-//! projection `R∞` onto the set.
+//! The contacts at one state (docs/contact-laws.md), any number of them: the Delassus matrix of
+//! a set of constraints, the motion held on the set, the impact law on the set (the generalized
+//! Newton law, an LCP), the contact forces that decide which constraints hold (law 1, an LCP),
+//! and the projection `R∞` onto the set.
+//!
+//! The run asks only the set operations at the end of this file ([`impact_law`], [`held_of`],
+//! [`margin`], [`multipliers`], [`project_onto`]): one constraint is the set of size 1. For it
+//! each takes the single-constraint mechanics of [`crate::mechanics`] (its traced programs, no
+//! matrix), a specialisation that gives what the general law gives, in fewer operations.
 //!
 //! Signs: the engine's multiplier `λ` pulls when positive (the contact force is `−Aᵀλ`); the
-//! laws are written with forces and impulses `f = −λ ≥ 0` that push. One contact alone is the
-//! single-constraint mechanics of [`crate::mechanics`], which the runner keeps using there.
+//! laws are written with forces and impulses `f = −λ ≥ 0` that push.
 
 use crate::execution::ActiveSet;
 use crate::lcp;
 use crate::mechanics::{guard_scale, DynamicsError, Mechanics, Normal};
-use crate::model::HybridLagrangian;
+use crate::model::{Constraint, HybridLagrangian};
 use crate::motion::dot;
 
 /// Rounding allowance of the sums below, in units of `ε` times the size of their terms.
@@ -448,4 +452,213 @@ pub(crate) fn project<L: HybridLagrangian>(
     }
     let c = Contacts::at(mech, set, t, q, q_dot).map_err(name_first)?;
     Err(c.projection_error())
+}
+
+/// What the impact law did on a set: the impulses `Λ` (pushing, in the set's order), and from
+/// each constraint's normal velocity before and after (`ḣ⁻`, `ḣ⁺ = ḣ⁻ + (W Λ)ᵢ`, the law's own)
+/// and `∂ₜh`, its loss `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻)` and the work `−Σ Λᵢ ∂ₜhᵢ` of the impulses on
+/// surfaces that move (docs/forces-and-time.md): the energy balance without evaluating again.
+pub(crate) struct ImpactLaw {
+    pub impulses: Vec<f64>,
+    pub loss: f64,
+    pub work: f64,
+}
+
+impl ImpactLaw {
+    /// The law's impulses `impulses`, with the loss and work from the normal velocities before
+    /// and after and `∂ₜh` of each constraint (given by `each(i)` for the `i`-th).
+    fn new(impulses: Vec<f64>, each: impl Fn(usize) -> (f64, f64, f64)) -> Self {
+        let mut loss = 0.0;
+        let mut work = 0.0;
+        for (i, &impulse) in impulses.iter().enumerate() {
+            let (h_dot_before, h_dot_after, h_t) = each(i);
+            loss -= 0.5 * impulse * (h_dot_after + h_dot_before);
+            work -= impulse * h_t;
+        }
+        Self {
+            impulses,
+            loss,
+            work,
+        }
+    }
+}
+
+/// The impact law on `set` at `(t, q, q̇)`, `q̇` updated in place (docs/contact-laws.md, law
+/// 2): the generalized Newton law, an LCP, with each constraint's restitution from
+/// `constraints` (the model's). For one constraint the law is the paper's map `P`,
+/// `Λ = −(1 + e) ḣ⁻/(A M⁻¹ Aᵀ)`, from the mechanics of that constraint, whose normal response
+/// at this state is `reached`.
+pub(crate) fn impact_law<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    reached: &Normal,
+    constraints: &[Constraint],
+    t: f64,
+    q: &[f64],
+    q_dot: &mut [f64],
+) -> Result<ImpactLaw, (DynamicsError, usize)> {
+    if let Some(index) = set.only() {
+        let e = constraints[index].restitution;
+        mech.impact(index, e, t, q, q_dot).map_err(|err| (err, index))?;
+        // Pushing, so not below 0 (at rest, `A q̇` may round to either side of it).
+        let impulse = -(1.0 + e) * reached.a_q_dot / reached.s;
+        let impulse = if impulse > 0.0 { impulse } else { 0.0 };
+        // The law's own normal velocity after it: ḣ⁺ = ḣ⁻ + s Λ.
+        let after = reached.a_q_dot + reached.s * impulse;
+        return Ok(ImpactLaw::new(vec![impulse], |_| {
+            (reached.a_q_dot, after, reached.h_t)
+        }));
+    }
+    let contacts = Contacts::at(mech, set, t, q, q_dot)?;
+    let first = contacts.indices[0];
+    let restitution: Vec<f64> = contacts
+        .indices
+        .iter()
+        .map(|&i| constraints[i].restitution)
+        .collect();
+    let impulses = contacts
+        .impact(&restitution, q_dot)
+        .map_err(|err| (err, first))?;
+    let k = contacts.len();
+    let after: Vec<f64> = (0..k)
+        .map(|i| {
+            let row = &contacts.delassus[i * k..(i + 1) * k];
+            let before = contacts.normals[i].a_q_dot;
+            before + row.iter().zip(&impulses).map(|(w, l)| w * l).sum::<f64>()
+        })
+        .collect();
+    Ok(ImpactLaw::new(impulses, |i| {
+        let normal = &contacts.normals[i];
+        (normal.a_q_dot, after[i], normal.h_t)
+    }))
+}
+
+/// The constraints of `closed` that hold at `(t, q, q̇)` (docs/contact-laws.md, law 1): those
+/// that would not have to pull. One constraint holds while its lift margin is not positive.
+pub(crate) fn held_of<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    closed: ActiveSet,
+    t: f64,
+    q: &[f64],
+    q_dot: &[f64],
+    w: &mut [f64],
+) -> Result<ActiveSet, (DynamicsError, usize)> {
+    if closed.is_empty() {
+        return Ok(closed);
+    }
+    if let Some(index) = closed.only() {
+        let normal = mech
+            .normal(index, t, q, q_dot, w)
+            .map_err(|err| (err, index))?;
+        return Ok(if normal.lift_margin() > 0.0 {
+            ActiveSet::empty()
+        } else {
+            closed
+        });
+    }
+    let contacts = Contacts::at(mech, closed, t, q, q_dot)?;
+    let first = contacts.indices[0];
+    contacts.held_set().map_err(|err| (err, first))
+}
+
+/// How far the constraints held in `set` are from letting go at `(t, q, q̇)`: the largest lift
+/// margin, positive where one of them would have to pull (docs/contact-laws.md, law 1). One
+/// constraint: its [`Normal::lift_margin`]. `w` and `acc` are scratch of the model's dimension.
+#[inline]
+pub(crate) fn margin<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    t: f64,
+    q: &[f64],
+    q_dot: &[f64],
+    w: &mut [f64],
+    acc: &mut [f64],
+) -> Result<f64, DynamicsError> {
+    match set.only() {
+        Some(index) => Ok(mech.normal(index, t, q, q_dot, w)?.lift_margin()),
+        None => Ok(held_acceleration(mech, set, t, q, q_dot, acc)?.1.margin()),
+    }
+}
+
+/// `q̈` of the motion held on `set` at `(t, q, q̇)` into `q_ddot`: free where the set is empty,
+/// the single-constraint mechanics' for one, [`held_acceleration`] for several.
+pub(crate) fn acceleration<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    t: f64,
+    q: &[f64],
+    q_dot: &[f64],
+    q_ddot: &mut [f64],
+) -> Result<(), DynamicsError> {
+    if set.len() <= 1 {
+        return mech.acceleration(t, q, q_dot, set.only(), q_ddot).map(|_| ());
+    }
+    held_acceleration(mech, set, t, q, q_dot, q_ddot).map(|_| ())
+}
+
+/// The lift margins of the constraints held in `set`, each with its constraint's index, in the
+/// set's order: [`margin`] constraint by constraint.
+pub(crate) fn margins<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    t: f64,
+    q: &[f64],
+    q_dot: &[f64],
+) -> Result<Vec<(usize, f64)>, DynamicsError> {
+    let n = q.len();
+    if let Some(index) = set.only() {
+        let mut w = vec![0.0; n];
+        return Ok(vec![(index, mech.normal(index, t, q, q_dot, &mut w)?.lift_margin())]);
+    }
+    let mut acc = vec![0.0; n];
+    let (contacts, hold) = held_acceleration(mech, set, t, q, q_dot, &mut acc)?;
+    Ok(contacts.indices.into_iter().zip(hold.margins).collect())
+}
+
+/// The multipliers `λᵢ` that hold the motion on `set` at `(t, q, q̇)` (engine's sign: the
+/// contact force is `−Aᵢᵀλᵢ`), each with its constraint's index and `∂ₜhᵢ`, in the set's order.
+/// One constraint: `λ = ḧ_free/(A M⁻¹ Aᵀ)` from its mechanics. `w` is scratch of the model's
+/// dimension.
+pub(crate) fn multipliers<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    t: f64,
+    q: &[f64],
+    q_dot: &[f64],
+    w: &mut [f64],
+    mut each: impl FnMut(usize, f64, f64),
+) -> Result<(), DynamicsError> {
+    let n = q.len();
+    if let Some(index) = set.only() {
+        let normal = mech.normal(index, t, q, q_dot, w)?;
+        each(index, normal.lambda(), normal.h_t);
+        return Ok(());
+    }
+    if set.is_empty() {
+        return Ok(());
+    }
+    let mut acc = vec![0.0; n];
+    let (contacts, hold) = held_acceleration(mech, set, t, q, q_dot, &mut acc)?;
+    for ((&index, lambda), normal) in contacts.indices.iter().zip(hold.lambda).zip(&contacts.normals)
+    {
+        each(index, lambda, normal.h_t);
+    }
+    Ok(())
+}
+
+/// `R∞` onto the constraints of `set` at `y = (q, q̇)` (nothing where the set is empty): one
+/// constraint's projection ([`Mechanics::project`]), or [`project`] onto the set.
+pub(crate) fn project_onto<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    t: f64,
+    n: usize,
+    y: &mut [f64],
+) -> Result<(), DynamicsError> {
+    let (q, q_dot) = y.split_at_mut(n);
+    match set.only() {
+        _ if set.is_empty() => Ok(()),
+        Some(index) => mech.project(index, t, q, q_dot).map(|_| ()),
+        None => project(mech, set, t, q, q_dot),
+    }
 }

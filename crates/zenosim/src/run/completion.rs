@@ -1,39 +1,106 @@
-//! Zeno points: whether an accumulation of impacts, on one constraint or several, is resolved
-//! as far as the run resolves it (`Auto`, `Epsilon`, `Off`), and the switch through `R∞` (or the
-//! stall) there (docs/contact-laws.md, law 3).
+//! Zeno points: whether the impacts accumulate to one, on one constraint or several, as far as
+//! the run resolves it (`Auto`, `Epsilon`, `Off`), and the switch through `R∞` there (or the
+//! stall) (docs/contact-laws.md, law 3).
 
-use super::equations::project_onto;
+use super::mode::{holding, Transition};
 use super::record::split;
-use super::{holding, Next, Runner, AUTO_ROUND_OFF_ULPS, OFF_ROUND_OFF_ULPS, STUCK_EVENTS};
+use super::{Next, Runner, AUTO_ROUND_OFF_ULPS, OFF_ROUND_OFF_ULPS};
 use crate::contact::{self};
 use crate::derivatives::guard_along;
 use crate::error::Error;
-use crate::execution::{ActiveSet, EventKind, Mode, Outcome, ZenoKind, ZenoPoint};
-use crate::mechanics::{guard_scale, Normal};
+use crate::execution::{ActiveSet, Mode, Outcome, ZenoKind, ZenoPoint};
+use crate::mechanics::guard_scale;
 use crate::model::HybridLagrangian;
 use crate::observer::Observer;
 use crate::options::{Completion, ZenoStrategy};
 use crate::zeno::Prediction;
 
+/// The next flight of a body leaving a constraint: the prediction, and the normal velocity and
+/// acceleration it comes from (`ḣ⁺`, and `ḧ` under the motion held on the others).
+pub(super) struct NextFlight {
+    pub prediction: Option<Prediction>,
+    pub h_dot: f64,
+    pub h_ddot: f64,
+}
+
 impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
-    /// Whether the rest of the Zeno sequence after the impact that left `y` is below what the
-    /// run resolves, with `ulps` the rounding margin of the guard (see [`Self::round_off_floor`]).
+    /// After an impact reaching `index` on `contacts` at `t`, which left `after` in the mode now
+    /// current (`index` not held): whether the impacts accumulate to a Zeno point as far as the
+    /// run resolves it, and if so the switch (or the stall, with `Off`); else the flight it
+    /// starts, its next step bounded by the predicted flight.
+    pub(super) fn after_impact(
+        &mut self,
+        index: usize,
+        contacts: ActiveSet,
+        t: f64,
+        after: Vec<f64>,
+        hint: f64,
+    ) -> Result<Next, Error> {
+        let e = self.sim.model.constraints()[index].restitution;
+        if self.watch.accumulation.constraints().len() > 1 {
+            // Impacts alternating between constraints (a groove's walls).
+            if let Some(next) = self.accumulation_resolved(index, contacts, t, &after)? {
+                return Ok(next);
+            }
+        }
+        if self.watch.no_progress(t, self.time_resolution(t)) {
+            return self.stuck_at(index, t, &after);
+        }
+        let held = self.held();
+        if held.contains(index) {
+            // Closed by the impact and held (a rocking block's new pivot): it does not fly.
+            self.resume(t, &after, Some(hint))?;
+            return Ok(Next::Continue);
+        }
+        // The sequence on `index`: its next flight from the physics.
+        let flight = self.held_prediction(index, held, e, t, &after)?;
+        if let Some(p) = flight.prediction {
+            // R∞ onto the constraint reached, those held, and those of the impact (reached at
+            // the same instant: at their surfaces too).
+            let all = held.union(contacts).with(index);
+            let ulps = match self.sim.options.zeno {
+                ZenoStrategy::Auto => AUTO_ROUND_OFF_ULPS,
+                // An ε below what f64 resolves is never met: switch where impacts stop being
+                // resolvable, as Off stalls there.
+                ZenoStrategy::Off | ZenoStrategy::Epsilon(_) => OFF_ROUND_OFF_ULPS,
+            };
+            if self.zeno_resolved(index, t, &after, &p, &flight, ulps)? {
+                return match self.sim.options.zeno {
+                    ZenoStrategy::Off => Ok(self.stall(index, all, t, &after, p)),
+                    _ => self.switch(index, all, t, after, Some(p)),
+                };
+            }
+        }
+        let hint = match flight.prediction {
+            Some(p) if p.next_flight > 0.0 => {
+                self.flight_bound = 1.5 * p.next_flight;
+                hint.min(self.flight_bound)
+            }
+            _ => hint,
+        };
+        self.resume(t, &after, Some(hint))?;
+        Ok(Next::Continue)
+    }
+
+    /// Whether the rest of the Zeno sequence on constraint `index` after the impact that left
+    /// `y` is below what the run resolves, with `ulps` the rounding margin of the guard (see
+    /// [`AUTO_ROUND_OFF_ULPS`]); `flight` is its next flight.
     ///
     /// Resolved means the next flight is not longer than the run's time resolution at `t`
     /// ([`Runner::time_resolution`]), or either:
     /// - the predicted remaining time `T_rem` is shorter than the integrator's time resolution
     ///   `1/‖ẋ‖` (in its own weighted error norm): the execution cannot move by more than the
     ///   tolerance before `τ∞`, so switching now is as accurate as the integration; or
-    /// - the next bounce's height `(A q̇⁺)²/(2|ḧ|)` is within `ulps` of the rounding error of
+    /// - the next bounce's height `(ḣ⁺)²/(2|ḧ|)` is within `ulps` of the rounding error of
     ///   `h` itself: no further impact can be resolved in `f64`, and what the switch changes
-    ///   after `τ∞` (of order `A q̇⁺ · T_rem`) is far below the tolerance.
-    pub(super) fn zeno_resolved(
+    ///   after `τ∞` (of order `ḣ⁺ · T_rem`) is far below the tolerance.
+    fn zeno_resolved(
         &mut self,
         index: usize,
         t: f64,
         y: &[f64],
         p: &Prediction,
-        normal: &Normal,
+        flight: &NextFlight,
         ulps: f64,
     ) -> Result<bool, Error> {
         if p.next_flight <= self.time_resolution(t) {
@@ -46,7 +113,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let h = self.mech.constraint_gradient(index, t, q, &mut gradient);
         let h_scale = guard_scale(h, &gradient[..n], q);
         self.scratch = gradient;
-        let height = normal.a_q_dot.max(0.0).powi(2) / (2.0 * -normal.h_ddot_free);
+        let height = flight.h_dot.max(0.0).powi(2) / (2.0 * -flight.h_ddot);
         if height <= ulps * f64::EPSILON * h_scale {
             return Ok(true);
         }
@@ -76,137 +143,141 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         Ok((acc_rate / (2 * n) as f64).sqrt())
     }
 
-    /// Genuine when the flights measured so far shrink geometrically (positive intervals), or
-    /// when the next one is still resolvable; chattering otherwise (zero-length intervals).
-    pub(super) fn zeno_kind(&self, p: &Prediction, e: f64, t: f64) -> ZenoKind {
-        if e > 0.0 && self.sequence.ratio().is_some_and(|r| r > 0.0) {
-            ZenoKind::Genuine
-        } else {
-            p.kind(e, self.time_resolution(t))
-        }
-    }
-
-    /// Events that do not advance time: after [`STUCK_EVENTS`] in a row the contact is chattering.
-    pub(super) fn no_progress(&mut self, t: f64) -> bool {
-        if t - self.last_event_t <= self.time_resolution(t) {
-            self.stuck += 1;
-        } else {
-            self.stuck = 0;
-        }
-        self.last_event_t = t;
-        self.stuck >= STUCK_EVENTS
-    }
-
-    /// Impacts that no longer advance time: a chattering contact. Switch, or stall with `Off`;
-    /// onto every constraint of the accumulation and those held, where that is more than one.
+    /// Impacts that no longer advance time: a chattering contact. Switch, or stall with `Off`,
+    /// onto every constraint of the accumulation and those held.
     pub(super) fn stuck_at(&mut self, index: usize, t: f64, y: &[f64]) -> Result<Next, Error> {
-        let e = self.sim.model.constraints()[index].restitution;
         let p = Prediction {
             next_flight: 0.0,
             remaining: 0.0,
         };
         let all = self
+            .watch
             .accumulation
             .constraints()
             .union(self.held())
             .with(index);
-        if all.len() > 1 {
-            return match self.sim.options.zeno {
-                ZenoStrategy::Off => Ok(self.stall_set(index, all, t, y, p)),
-                _ => self.switch_set(index, all, t, y.to_vec(), Some(p)),
-            };
-        }
         match self.sim.options.zeno {
-            ZenoStrategy::Off => Ok(self.stall(index, t, y, p, e)),
-            _ => self.switch(index, t, y.to_vec(), Some(p), e),
+            ZenoStrategy::Off => Ok(self.stall(index, all, t, y, p)),
+            _ => self.switch(index, all, t, y.to_vec(), Some(p)),
         }
     }
 
-    pub(super) fn stall(&mut self, index: usize, t: f64, y: &[f64], p: Prediction, e: f64) -> Next {
-        let point = ZenoPoint {
-            constraint: index,
-            constraints: ActiveSet::single(index),
-            kind: self.zeno_kind(&p, e, t),
-            t_switch: t,
-            t_zeno: t + p.remaining,
-            impacts: self.sequence.count(),
-            ratio: self.sequence.ratio(),
-            point: split(y, self.n),
+    /// The Zeno point of an accumulation onto `set`, its last impact reaching `index`, switched
+    /// or stalled at `t` in the state `point`. One constraint alone: its sequence's impacts and
+    /// their ratio, and genuine where `e > 0` and the flights shrink (or the next one is still
+    /// resolvable); several: the accumulation's, genuine where its flights shrink and the next
+    /// one is still resolvable.
+    fn zeno_point(
+        &self,
+        index: usize,
+        set: ActiveSet,
+        t: f64,
+        point: &[f64],
+        prediction: Option<Prediction>,
+    ) -> ZenoPoint {
+        let resolution = self.time_resolution(t);
+        let remaining = prediction.map_or(0.0, |p| p.remaining);
+        let (kind, impacts, ratio) = if set == ActiveSet::single(index) {
+            let e = self.sim.model.constraints()[index].restitution;
+            let ratio = self.watch.sequence.ratio();
+            let kind = match prediction {
+                Some(_) if e > 0.0 && ratio.is_some_and(|r| r > 0.0) => ZenoKind::Genuine,
+                Some(p) => p.kind(e, resolution),
+                None => ZenoKind::Chattering,
+            };
+            (kind, self.watch.sequence.count(), ratio)
+        } else {
+            let ratio = self.watch.accumulation.ratio();
+            let kind = match (prediction, ratio) {
+                (Some(p), Some(r)) if r > 0.0 && p.next_flight > resolution => ZenoKind::Genuine,
+                _ => ZenoKind::Chattering,
+            };
+            (kind, self.watch.accumulation.count(), ratio)
         };
-        self.stop_at(point, y)
+        ZenoPoint {
+            constraint: index,
+            constraints: set,
+            kind,
+            t_switch: t,
+            t_zeno: t + remaining,
+            impacts,
+            ratio,
+            point: split(point, self.n),
+        }
     }
 
-    /// Ends the run at the Zeno point `point`, reached in the state `y` (`Off`).
-    fn stop_at(&mut self, point: ZenoPoint, y: &[f64]) -> Next {
-        let (constraint, t, t_zeno) = (point.constraint, point.t_switch, point.t_zeno);
-        self.zeno.push(point);
+    /// `Off` at the Zeno point of an accumulation onto `set`: the plain hybrid system stops
+    /// there, at `(t, y)`.
+    pub(super) fn stall(
+        &mut self,
+        index: usize,
+        set: ActiveSet,
+        t: f64,
+        y: &[f64],
+        p: Prediction,
+    ) -> Next {
+        let point = self.zeno_point(index, set, t, y, Some(p));
+        let (constraint, t_zeno) = (point.constraint, point.t_zeno);
+        self.record.zeno.push(point);
         // Best effort: the run stops here.
         let _ = self.advance_work(t);
         self.commit_time(t, y);
         Next::Stop(Outcome::ZenoStalled { constraint, t_zeno })
     }
 
-    /// The switch to the constrained motion through `R∞`.
+    /// The switch to the constrained motion through `R∞` onto every constraint of `set` at
+    /// once (position onto all `hᵢ = 0`, velocity by the plastic law), its last impact reaching
+    /// `index`; then law 1 decides which of them hold, and those that would have to pull let
+    /// go at once.
+    ///
+    /// For one constraint with `completion = "model"`, the model's own map comes first: under
+    /// `Auto` the switch state stands for the Zeno point, up to the bounces not taken, whose
+    /// normal velocity goes plastically first, so that a map written for the point itself (the
+    /// paper's keep some coordinates and solve for the others) does not turn it into a
+    /// tangential error; under the paper's ε rule the map acts on the state as it is, as in the
+    /// paper.
     pub(super) fn switch(
         &mut self,
         index: usize,
+        set: ActiveSet,
         t: f64,
         before: Vec<f64>,
         prediction: Option<Prediction>,
-        e: f64,
     ) -> Result<Next, Error> {
+        let n = self.n;
         let mut after = before.clone();
-        {
-            let (q, q_dot) = after.split_at_mut(self.n);
-            if self.sim.options.completion == Completion::ModelMap {
-                // Under `Auto` the switch state stands for the Zeno point, up to the bounces not
-                // taken: their normal velocity goes plastically first, so that a map written for
-                // the point itself (the paper's keep some coordinates and solve for the others)
-                // does not turn it into a tangential error. Under the paper's ε rule the map
-                // acts on the state as it is, as in the paper.
-                if self.sim.options.zeno == ZenoStrategy::Auto {
-                    self.mech
-                        .project(index, t, q, q_dot)
-                        .map_err(|err| self.fail_dynamics(err, t, &before))?;
-                }
-                self.sim.model.completion_map_at(index, t, q, q_dot);
+        let own_map = self.sim.options.completion == Completion::ModelMap;
+        if let (Some(only), true) = (set.only(), own_map) {
+            let (q, q_dot) = after.split_at_mut(n);
+            if self.sim.options.zeno == ZenoStrategy::Auto {
+                self.mech
+                    .project(only, t, q, q_dot)
+                    .map_err(|err| self.fail_dynamics(err, t, &before))?;
             }
-            self.mech
-                .project(index, t, q, q_dot)
-                .map_err(|err| self.fail_dynamics(err, t, &before))?;
+            self.sim.model.completion_map_at(only, t, q, q_dot);
         }
-        let (kind, remaining) = match prediction {
-            Some(p) => (self.zeno_kind(&p, e, t), p.remaining),
-            None => (ZenoKind::Chattering, 0.0),
-        };
-        self.zeno.push(ZenoPoint {
-            constraint: index,
-            constraints: ActiveSet::single(index),
-            kind,
-            t_switch: t,
-            t_zeno: t + remaining,
-            impacts: self.sequence.count(),
-            ratio: self.sequence.ratio(),
-            point: split(&after, self.n),
-        });
-        self.sequence.clear();
-        self.end_accumulation_held(ActiveSet::single(index));
-        self.record_event(
-            EventKind::Zeno,
-            index,
-            (ActiveSet::single(index), Vec::new()),
+        contact::project_onto(&self.mech, set, t, n, &mut after)
+            .map_err(|err| self.fail_dynamics(err, t, &before))?;
+        let point = self.zeno_point(index, set, t, &after, prediction);
+        self.apply(
+            Transition::Zeno(point),
             t,
             &before,
             &after,
-            Mode::Constrained(ActiveSet::single(index)),
+            Mode::Constrained(set),
         )?;
         self.restart(t, &after, None)?;
-        // A constraint that cannot hold the motion (λ > 0) lets go at once.
-        let (q, q_dot) = after.split_at(self.n);
-        self.lift_margin_start = self.normal(index, t, q, q_dot)?.lift_margin();
-        if self.lift_margin_start > 0.0 {
-            return self.liftoff(index, t, after);
+        // Law 1 there: a constraint that cannot hold the motion (λ > 0) lets go at once.
+        let held = self.held_of(set, t, &after)?;
+        if held != set {
+            let gone = set.minus(held);
+            let named = gone.iter().next().unwrap_or(index);
+            let transition = Transition::Liftoff { named, gone };
+            self.apply(transition, t, &after, &after, holding(held))?;
+            self.resume(t, &after, None)?;
+            return Ok(Next::Continue);
         }
+        self.enter_mode(t)?;
         Ok(Next::Continue)
     }
 
@@ -236,18 +307,18 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         Ok(true)
     }
 
-    /// After an impact reaching `index` at `t` on the constraints `involved`, which left `y` (in
-    /// the mode now current): whether the
-    /// accumulation it belongs to has reached its Zeno point as far as the run resolves it
+    /// After an impact reaching `index` at `t` on the constraints `involved`, which left `y`
+    /// (in the mode now current), the impacts accumulating over several constraints: whether
+    /// their accumulation has reached its Zeno point as far as the run resolves it
     /// (docs/contact-laws.md, law 3), and if so the switch (or the stall, with `Off`).
     ///
-    /// The rest of the sequence is predicted from the physics where its impacts all reach one
-    /// constraint (the flight `2 A q̇⁺/|ḧ|`, `ḧ` under the motion held on the others), else from
-    /// the measured ratio of its flights. It is resolved when the next flight is below what
-    /// `f64` time resolves at `t` or, under `Auto`, when the remaining time is below the
-    /// integration's time resolution; in either case only where every constraint of the
-    /// accumulation is within a hundred position tolerances of its surface.
-    pub(super) fn accumulation_resolved(
+    /// The rest of the sequence is predicted from the measured ratio of its flights, or, where
+    /// it is longer, from the flight back to the constraint just reached. It is resolved when
+    /// the next flight is below what `f64` time resolves at `t`, or below the rounding of the
+    /// constraints' `h`, or, under `Auto`, when the remaining time is below the integration's
+    /// time resolution; in each case only where every constraint of the accumulation is
+    /// within a hundred position tolerances of its surface.
+    fn accumulation_resolved(
         &mut self,
         index: usize,
         involved: ActiveSet,
@@ -255,34 +326,27 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         y: &[f64],
     ) -> Result<Option<Next>, Error> {
         let held = self.held();
-        let accumulating = self.accumulation.constraints();
-        let prediction = if accumulating.len() == 1 {
-            if held.contains(index) {
-                // Closed by the impact (plastic): nothing bounces, nothing accumulates.
-                return Ok(None);
-            }
-            let e = self.sim.model.constraints()[index].restitution;
-            self.held_prediction(index, held, e, t, y)?
+        // In a wedge the flights do not shrink by one ratio (a short flight between two walls
+        // may be followed by one fifty times longer), and one short flight would make the
+        // ratio's prediction switch early.
+        let measured = self.watch.accumulation.predict();
+        let e = self.sim.model.constraints()[index].restitution;
+        // (A constraint the impact closed and holds does not fly back: the ratio alone.)
+        let back = if held.contains(index) {
+            None
         } else {
-            // Impacts alternating between constraints: the measured ratio, unless the physics
-            // of the constraint just reached says the rest takes longer. In a wedge the flights
-            // do not shrink by one ratio (a short flight between two walls may be followed by
-            // one fifty times longer), and one short flight would make the ratio's prediction
-            // switch early.
-            let measured = self.accumulation.predict();
-            let e = self.sim.model.constraints()[index].restitution;
-            let back = self.held_prediction(index, held, e, t, y)?;
-            match (measured, back) {
-                (Some(m), Some(b)) if b.remaining > m.remaining => Some(b),
-                (m, _) => m,
-            }
+            self.held_prediction(index, held, e, t, y)?.prediction
+        };
+        let prediction = match (measured, back) {
+            (Some(m), Some(b)) if b.remaining > m.remaining => Some(b),
+            (m, _) => m,
         };
         let Some(p) = prediction else {
             return Ok(None);
         };
         // The constraints of the last impact that are at their surfaces take part too (two
         // walls reached at once, again and again).
-        let accumulating = accumulating.union(involved);
+        let accumulating = self.watch.accumulation.constraints().union(involved);
         if !self.near(accumulating, t, y) {
             return Ok(None);
         }
@@ -299,13 +363,13 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         }
         let all = accumulating.union(held);
         Ok(Some(match self.sim.options.zeno {
-            ZenoStrategy::Off => self.stall_set(index, all, t, y, p),
-            _ => self.switch_set(index, all, t, y.to_vec(), Some(p))?,
+            ZenoStrategy::Off => self.stall(index, all, t, y, p),
+            _ => self.switch(index, all, t, y.to_vec(), Some(p))?,
         }))
     }
 
     /// The next flight of a body leaving constraint `index` at `y`, pulled back under the
-    /// motion held on `held`: `Prediction` from `A q̇⁺` and `ḧ = ḧ_free − Σ W_ih λ_h`.
+    /// motion held on `held`: `Prediction` from `ḣ⁺` and `ḧ = ḧ_free − Σ W_ih λ_h`.
     pub(super) fn held_prediction(
         &mut self,
         index: usize,
@@ -313,28 +377,26 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         e: f64,
         t: f64,
         y: &[f64],
-    ) -> Result<Option<Prediction>, Error> {
+    ) -> Result<NextFlight, Error> {
         let (q, q_dot) = y.split_at(self.n);
         let normal = self.normal(index, t, q, q_dot)?;
         let round_off = (normal.a_q_dot_round_off, normal.h_ddot_round_off);
         let held = held.minus(ActiveSet::single(index));
         if held.is_empty() {
-            return Ok(Prediction::new(
-                normal.a_q_dot,
-                normal.h_ddot_free,
-                e,
-                round_off,
-            ));
+            return Ok(NextFlight {
+                prediction: Prediction::new(
+                    normal.a_q_dot,
+                    normal.h_ddot_free,
+                    e,
+                    round_off,
+                ),
+                h_dot: normal.a_q_dot,
+                h_ddot: normal.h_ddot_free,
+            });
         }
         let mut acc = vec![0.0; self.n];
-        let motion = if held.len() == 1 {
-            self.mech
-                .acceleration(t, q, q_dot, held.only(), &mut acc)
-                .map(|_| ())
-        } else {
-            contact::held_acceleration(&self.mech, held, t, q, q_dot, &mut acc).map(|_| ())
-        };
-        motion.map_err(|err| self.fail_dynamics(err, t, y))?;
+        contact::acceleration(&self.mech, held, t, q, q_dot, &mut acc)
+            .map_err(|err| self.fail_dynamics(err, t, y))?;
         // ḧ = A q̈ + Ȧ q̇, with Ȧ q̇ = ḧ_free − A M⁻¹ f.
         let mut free = vec![0.0; self.n];
         self.mech
@@ -348,19 +410,16 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             .map(|(a, (held, free))| a * (held - free))
             .sum();
         let h_ddot = normal.h_ddot_free + change;
-        Ok(Prediction::new(normal.a_q_dot, h_ddot, e, round_off))
+        Ok(NextFlight {
+            prediction: Prediction::new(normal.a_q_dot, h_ddot, e, round_off),
+            h_dot: normal.a_q_dot,
+            h_ddot,
+        })
     }
 
-    /// Whether the motion of every constraint of `set` over the next flight, `|A q̇| Δ`, is within
+    /// Whether the motion of every constraint of `set` over the next flight, `|ḣ| Δ`, is within
     /// `ulps` of the rounding error of its `h`: no further impact on them can be resolved.
-    pub(super) fn below_round_off(
-        &mut self,
-        set: ActiveSet,
-        t: f64,
-        y: &[f64],
-        flight: f64,
-        ulps: f64,
-    ) -> bool {
+    fn below_round_off(&mut self, set: ActiveSet, t: f64, y: &[f64], flight: f64, ulps: f64) -> bool {
         let (q, q_dot) = y.split_at(self.n);
         set.iter().all(|index| {
             let surface = self.surface(index, t, q, q_dot);
@@ -370,87 +429,12 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
 
     /// Whether every constraint of `set` is within a hundred position tolerances of its surface
     /// at `y`.
-    pub(super) fn near(&mut self, set: ActiveSet, t: f64, y: &[f64]) -> bool {
+    fn near(&mut self, set: ActiveSet, t: f64, y: &[f64]) -> bool {
         let tol = self.sim.options.tolerances;
         let (q, q_dot) = y.split_at(self.n);
         set.iter().all(|index| {
             let surface = self.surface(index, t, q, q_dot);
             surface.h.abs() <= surface.tolerance(100.0, tol)
         })
-    }
-
-    /// The switch through `R∞` onto every constraint of `set` at once (position onto all
-    /// `hᵢ = 0`, velocity by the plastic law), after which law 1 picks those that hold.
-    pub(super) fn switch_set(
-        &mut self,
-        index: usize,
-        set: ActiveSet,
-        t: f64,
-        before: Vec<f64>,
-        prediction: Option<Prediction>,
-    ) -> Result<Next, Error> {
-        let mut after = before.clone();
-        project_onto(&self.mech, set, t, self.n, &mut after)
-            .map_err(|err| self.fail_dynamics(err, t, &before))?;
-        let held = self.held_of(set, t, &after)?;
-        let remaining = prediction.map_or(0.0, |p| p.remaining);
-        let ratio = self.accumulation.ratio();
-        let kind = match (prediction, ratio) {
-            (Some(p), Some(r)) if r > 0.0 && p.next_flight > self.time_resolution(t) => {
-                ZenoKind::Genuine
-            }
-            _ => ZenoKind::Chattering,
-        };
-        self.zeno.push(ZenoPoint {
-            constraint: index,
-            constraints: set,
-            kind,
-            t_switch: t,
-            t_zeno: t + remaining,
-            impacts: self.accumulation.count(),
-            ratio,
-            point: split(&after, self.n),
-        });
-        self.sequence.clear();
-        self.end_accumulation_held(held);
-        let mode = holding(held);
-        let change = (set, Vec::new());
-        self.record_event(EventKind::Zeno, index, change, t, &before, &after, mode)?;
-        self.restart(t, &after, None)?;
-        self.enter_mode(t)?;
-        Ok(Next::Continue)
-    }
-
-    /// After a Zeno point whose switch holds `held`: the accumulation ends where it holds all
-    /// of the accumulation's constraints. Where it holds only part of them (a ball in a groove
-    /// that came to rest on one wall, sliding into the vertex, where it strikes the other), the
-    /// wider accumulation goes on through the Zeno point of its part, and law 3 keeps its
-    /// impacts to predict where it ends.
-    fn end_accumulation_held(&mut self, held: ActiveSet) {
-        if self.accumulation.constraints().minus(held).is_empty() {
-            self.accumulation.clear();
-        }
-    }
-
-    /// `Off` on an accumulation over `set`: the plain hybrid system stops there.
-    pub(super) fn stall_set(
-        &mut self,
-        index: usize,
-        set: ActiveSet,
-        t: f64,
-        y: &[f64],
-        p: Prediction,
-    ) -> Next {
-        let point = ZenoPoint {
-            constraint: index,
-            constraints: set,
-            kind: ZenoKind::Genuine,
-            t_switch: t,
-            t_zeno: t + p.remaining,
-            impacts: self.accumulation.count(),
-            ratio: self.accumulation.ratio(),
-            point: split(y, self.n),
-        };
-        self.stop_at(point, y)
     }
 }

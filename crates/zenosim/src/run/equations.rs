@@ -6,26 +6,43 @@ use crate::integrator::OdeSystem;
 use crate::mechanics::{DynamicsError, Mechanics, Normal};
 use crate::model::HybridLagrangian;
 
-/// The equations of motion of one mode, as the integrator sees them: `y = (q, q̇)`.
+/// The equations of motion of one mode, as the integrator sees them: `y = (q, q̇)`, free or
+/// held on a set of constraints (docs/contact-laws.md, law 1).
 pub(super) struct Equations<'a, L> {
     pub(super) mech: Mechanics<'a, L>,
-    /// The constraint held, where exactly one is.
-    pub(super) active: Option<usize>,
-    /// The constraints held, where two or more are (else empty).
-    pub(super) set: ActiveSet,
+    /// The constraints held (empty in free flight).
+    held: ActiveSet,
+    /// Free (`None`) or held on one constraint: the mechanics' own right-hand side, inlined
+    /// into the stages. Held on two or more, `contact::held_acceleration` (`None` too).
+    single: Option<usize>,
+    /// Whether the motion is held on two or more constraints.
+    several: bool,
     pub(super) n: usize,
-    /// The active constraint's normal response at the end of the last trial step, and its
-    /// time: after an accepted step, at the step's end ([`OdeSystem::rhs_at_end`]).
+    /// The held constraint's normal response at the end of the last trial step, and its
+    /// time, where one constraint is held: after an accepted step, at the step's end
+    /// ([`OdeSystem::rhs_at_end`]).
     pub(super) end: Option<(f64, Normal)>,
 }
 
-impl<L: HybridLagrangian> Equations<'_, L> {
-    /// The right-hand side held on two or more constraints (docs/contact-laws.md, law 1).
+impl<'a, L: HybridLagrangian> Equations<'a, L> {
+    pub(super) fn new(mech: Mechanics<'a, L>, held: ActiveSet, n: usize) -> Self {
+        Self {
+            mech,
+            held,
+            single: held.only(),
+            several: held.len() >= 2,
+            n,
+            end: None,
+        }
+    }
+
+    /// The right-hand side held on two or more constraints.
     #[inline(never)]
     fn rhs_on_set(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
         let (q, q_dot) = y.split_at(self.n);
         dy[..self.n].copy_from_slice(q_dot);
-        contact::held_acceleration(&self.mech, self.set, t, q, q_dot, &mut dy[self.n..]).map(|_| ())
+        contact::held_acceleration(&self.mech, self.held, t, q, q_dot, &mut dy[self.n..])
+            .map(|_| ())
     }
 }
 
@@ -37,23 +54,24 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
     }
 
     /// Free or on one constraint, the mechanics' right-hand side, inlined into the stages;
-    /// on a set, [`Equations::rhs_on_set`], kept out of line so that it does not stop that.
+    /// on two or more, [`Equations::rhs_on_set`], kept out of line so that it does not stop
+    /// that.
     #[inline(always)]
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
-        if self.set.is_empty() {
-            self.mech
-                .state_derivative(t, y, self.active, dy)
-                .map(|_| ())
-        } else {
+        if self.several {
             self.rhs_on_set(t, y, dy)
+        } else {
+            self.mech
+                .state_derivative(t, y, self.single, dy)
+                .map(|_| ())
         }
     }
 
-    /// On a constraint, the acceleration and the normal response from one evaluation of the
+    /// On one constraint, the acceleration and the normal response from one evaluation of the
     /// motion: the lift-off test after the step needs the response at its end.
     fn rhs_at_end(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
         self.end = None;
-        let Some(index) = self.active else {
+        let Some(index) = self.single else {
             return self.rhs(t, y, dy);
         };
         let (q, q_dot) = y.split_at(self.n);
@@ -65,32 +83,13 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
         Ok(())
     }
 
-    /// On a constraint, the drift of the step's end put back: `h = 0`, `ḣ = 0`
-    /// ([`Mechanics::project`]). The next step starts there, and the step's dense output ends
-    /// there.
+    /// Held, the drift of the step's end put back: `h = 0`, `ḣ = 0` on every held constraint
+    /// ([`contact::project_onto`]). The next step starts there, and the step's dense output
+    /// ends there.
     fn correct_end(&mut self, t: f64, y: &mut [f64]) -> Result<bool, DynamicsError> {
-        let (q, q_dot) = y.split_at_mut(self.n);
-        match self.active {
-            Some(index) => self.mech.project(index, t, q, q_dot).map(|_| true),
-            None if self.set.is_empty() => Ok(false),
-            None => contact::project(&self.mech, self.set, t, q, q_dot).map(|_| true),
+        if self.held.is_empty() {
+            return Ok(false);
         }
-    }
-}
-
-/// `R∞` onto the constraints of `set` at `y = (q, q̇)` (nothing where the set is empty): the
-/// single-constraint projection for one, the projection onto the set for several.
-pub(super) fn project_onto<L: HybridLagrangian>(
-    mech: &Mechanics<'_, L>,
-    set: ActiveSet,
-    t: f64,
-    n: usize,
-    y: &mut [f64],
-) -> Result<(), DynamicsError> {
-    let (q, q_dot) = y.split_at_mut(n);
-    match set.only() {
-        _ if set.is_empty() => Ok(()),
-        Some(index) => mech.project(index, t, q, q_dot).map(|_| ()),
-        None => contact::project(mech, set, t, q, q_dot),
+        contact::project_onto(&self.mech, self.held, t, self.n, y).map(|()| true)
     }
 }

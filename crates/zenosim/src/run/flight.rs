@@ -1,8 +1,9 @@
 //! Free flight and event location: a guard crossed on a step's dense output, the event state on
 //! the admissible side, a spurious crossing or an impact, and which constraints are closed there.
 
-use super::equations::project_onto;
-use super::{holding, interpolate, Next, Runner};
+use super::mode::holding;
+use super::{interpolate, Next, Runner};
+use crate::contact::project_onto;
 use crate::derivatives::guard_along;
 use crate::error::Error;
 use crate::events::first_crossing_or_touch;
@@ -106,8 +107,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             .map_err(|err| self.fail_dynamics(err, t, &start))?;
         self.mode = holding(held);
         self.y.copy_from_slice(&y);
-        self.restart(t, &y, None)?;
-        self.enter_mode(t)
+        self.resume(t, &y, None)
     }
 
     /// The guard of constraint `index` crossed at `t_event`, from the state `before` on its
@@ -129,8 +129,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         if leaving(&normal) {
             // Moving away at the root (or at rest and accelerating away): a round-off crossing,
             // not an impact (REFERENCE §4).
-            self.spurious += 1;
-            if self.no_progress(t_event) {
+            self.record.spurious += 1;
+            if self.watch.no_progress(t_event, self.time_resolution(t_event)) {
                 return self.stuck_at(index, t_event, &before);
             }
             // Pulled back, it lands after the flight 2 A q̇/|ḧ|: bound the next step by it, as
@@ -149,16 +149,18 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 }
                 _ => hint.min(found),
             };
-            self.restart(t_event, &before, Some(hint))?;
-            self.enter_mode(t_event)?;
+            self.resume(t_event, &before, Some(hint))?;
             return Ok(Next::Continue);
         }
-        let closed = self.closed_set(index, t_event, &before)?;
-        if closed.len() > 1 {
-            let index = self.leading(index, closed.minus(self.held()), t_event, &before)?;
-            return self.impact_set(index, closed, t_event, before, hint);
-        }
-        self.impact(index, t_event, before, normal, hint)
+        let contacts = self.closed_set(index, t_event, &before)?;
+        let leading = self.leading(index, contacts.minus(self.held()), t_event, &before)?;
+        let normal = if leading == index {
+            normal
+        } else {
+            let (q, q_dot) = before.split_at(self.n);
+            self.normal(leading, t_event, q, q_dot)?
+        };
+        self.impact(leading, contacts, t_event, before, normal, hint)
     }
 
     /// The constraints in the impact law when constraint `index` is reached at `t` in the state
@@ -215,6 +217,9 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         t: f64,
         y: &[f64],
     ) -> Result<usize, Error> {
+        if reached.len() <= 1 {
+            return Ok(reached.iter().next().unwrap_or(found));
+        }
         let (q, q_dot) = y.split_at(self.n);
         let mut best: Option<(usize, f64, f64)> = None;
         for index in reached.iter() {

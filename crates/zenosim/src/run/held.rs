@@ -1,47 +1,44 @@
-//! Motion held on one constraint or a set: another constraint reached, and lift-off where a
-//! held force vanishes (docs/contact-laws.md, law 1).
+//! Motion held on a set of constraints: another constraint reached, and lift-off where a held
+//! force vanishes (docs/contact-laws.md, law 1).
 
-use super::equations::project_onto;
-use super::{holding, interpolate, Next, Runner};
+use super::mode::{holding, Transition};
+use super::{interpolate, Next, Runner};
 use crate::contact::{self};
 use crate::error::Error;
 use crate::events::first_crossing;
-use crate::execution::{ActiveSet, EventKind, Mode};
+use crate::execution::ActiveSet;
 use crate::mechanics::Normal;
 use crate::model::HybridLagrangian;
 use crate::observer::Observer;
 
 impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
-    /// After a step on constraint `index`, whose normal response at the step's end is `end`
-    /// when the step computed it.
-    pub(super) fn after_constrained_step(
+    /// After a step held on `held`; `end` is the held constraint's normal response at the
+    /// step's end where the step computed it (one constraint held).
+    pub(super) fn after_held_step(
         &mut self,
-        index: usize,
+        held: ActiveSet,
         end: Option<Normal>,
     ) -> Result<Next, Error> {
         let (t0, t1) = (self.stepper.t_previous(), self.stepper.t());
         let n = self.n;
-        // Another constraint reached while this one holds: an impact on both.
-        if let Some((other, t)) = self.earliest_crossing(t0, t1, ActiveSet::single(index))? {
+        // Another constraint reached while these hold: an impact on all of them.
+        if let Some((other, t)) = self.earliest_crossing(t0, t1, held)? {
             return self.reached_while_held(other, t);
         }
-        // Lift-off: the constraint lets go where it would have to pull (λ above its rounding
-        // error; a contact without force holds), reported on the side where it pulls, where free
-        // flight is admissible. λ is sampled on the dense output as it is (within the tolerance
-        // of the constraint); inside the step only when its ends do not rule a crossing out.
-        let margin_start = self.lift_margin_start;
+        // Lift-off: a constraint lets go where it would have to pull (λ above its rounding
+        // error; a contact without force holds), reported on the side where it pulls, where
+        // the motion without it is admissible. The margin is sampled on the dense output as it
+        // is (within the tolerance of the constraints); inside the step only when its ends and
+        // middle do not rule a crossing out.
+        let margin_start = self.margin_start;
         let margin_end = match end {
             Some(normal) => normal.lift_margin(),
             None => {
                 let end = self.stepper.y().to_vec();
-                self.normal(index, t1, &end[..n], &end[n..])?.lift_margin()
+                self.margin_of(held, t1, &end)?
             }
         };
-        let next_bound = self.lift_trend(
-            ActiveSet::single(index),
-            (t0, t1),
-            (margin_start, margin_end),
-        )?;
+        let next_bound = self.lift_trend(held, (t0, t1), (margin_start, margin_end))?;
         let dip = matches!(next_bound, Some(None));
         let crossing = if !dip && lift_ruled_out(margin_start, margin_end) {
             None
@@ -50,30 +47,27 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             let (stepper, mech, cubic) = (&self.stepper, self.mech, self.cubic);
             let mut y = std::mem::take(&mut self.scratch);
             let mut w = std::mem::take(&mut self.w);
+            let mut acc = vec![0.0; n];
             let crossing = first_crossing(t0, t1, |t| {
                 interpolate(stepper, cubic, t, &mut y);
                 let (q, q_dot) = y.split_at(n);
-                let margin = mech
-                    .normal(index, t, q, q_dot, &mut w)
-                    .map_or(f64::NAN, |normal| normal.lift_margin());
+                let margin = contact::margin(&mech, held, t, q, q_dot, &mut w, &mut acc)
+                    .unwrap_or(f64::NAN);
                 (lift_guard(margin), None)
             });
             self.scratch = y;
             self.w = w;
             crossing
         };
-        self.lift_margin_start = margin_end;
+        self.margin_start = margin_end;
         if let Some(c) = crossing {
             let t = c.t_violating;
             self.emit_grid_before(t)?;
             let mut state = self.state_at(t)?;
-            {
-                let (q, q_dot) = state.split_at_mut(n);
-                self.mech
-                    .project(index, t, q, q_dot)
-                    .map_err(|err| self.dynamics_error(err, t, &state.clone()))?;
-            }
-            return self.liftoff(index, t, state);
+            let copy = state.clone();
+            contact::project_onto(&self.mech, held, t, n, &mut state)
+                .map_err(|err| self.fail_dynamics(err, t, &copy))?;
+            return self.liftoff(held, t, state);
         }
         // (The step's end is on h = 0, ḣ = 0 already: `Equations::correct_end`.)
         self.flight_bound = next_bound.flatten().unwrap_or(f64::INFINITY);
@@ -100,22 +94,28 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         if t1 <= t0 {
             return Ok(None);
         }
-        self.dense()?;
         let h = t1 - t0;
         let t_mid = t0 + 0.5 * h;
+        // The middle off the cubic through the step's ends (their states and derivatives), not
+        // its dense output, which would cost three more evaluations of the motion per held
+        // step: the sample only bounds the next step and decides whether to search this one
+        // (a search reads the dense output).
         let mut y = vec![0.0; 2 * self.n];
-        interpolate(&self.stepper, self.cubic, t_mid, &mut y);
-        let m_mid = match held.only() {
-            Some(index) => {
-                let (q, q_dot) = y.split_at(self.n);
-                self.normal(index, t_mid, q, q_dot)?.lift_margin()
-            }
-            None => self.set_margin(held, t_mid, &y)?,
-        };
+        self.stepper.interpolate_cubic(t_mid, &mut y);
+        let m_mid = self.margin_of(held, t_mid, &y)?;
         if m_mid > 0.0 {
             return Ok(Some(None));
         }
-        let curvature = 4.0 * (m0 - 2.0 * m_mid + m1).abs() / (h * h);
+        // A second difference within the cubic's own error (about the tolerance, relative to
+        // the margins) says nothing of the margin's turn: no bound.
+        let second = (m0 - 2.0 * m_mid + m1).abs();
+        let size = m0.abs().max(m_mid.abs()).max(m1.abs());
+        let noise = CUBIC_NOISE * self.sim.options.tolerances.rtol * size;
+        let curvature = if second > noise {
+            4.0 * second / (h * h)
+        } else {
+            0.0
+        };
         let floor = 1e3 * self.time_resolution(t1);
         let bound = if curvature > 0.0 {
             (m1.abs() / curvature).sqrt().max(floor)
@@ -125,123 +125,56 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         Ok(Some(Some(bound)))
     }
 
-    pub(super) fn liftoff(&mut self, index: usize, t: f64, state: Vec<f64>) -> Result<Next, Error> {
-        let change = (ActiveSet::single(index), Vec::new());
-        self.record_event(
-            EventKind::Liftoff,
-            index,
-            change,
-            t,
-            &state,
-            &state,
-            Mode::Free,
-        )?;
-        self.sequence.clear();
-        self.accumulation.clear();
-        self.restart(t, &state, None)?;
+    /// Some constraints of `held` let go at `t`: law 1 on the set decides which still hold (at
+    /// least the one whose margin is largest goes).
+    pub(super) fn liftoff(&mut self, held: ActiveSet, t: f64, state: Vec<f64>) -> Result<Next, Error> {
+        let mut still = self.held_of(held, t, &state)?;
+        if still == held {
+            // At the root itself law 1 may still see the force at 0: the largest margin goes.
+            let (q, q_dot) = state.split_at(self.n);
+            let margins = contact::margins(&self.mech, held, t, q, q_dot)
+                .map_err(|err| self.fail_dynamics(err, t, &state))?;
+            let worst = margins
+                .iter()
+                .max_by(|a, b| a.1.total_cmp(&b.1))
+                .map_or(0, |&(index, _)| index);
+            still = held.minus(ActiveSet::single(worst));
+        }
+        let gone = held.minus(still);
+        let named = gone.iter().next().unwrap_or(0);
+        let transition = Transition::Liftoff { named, gone };
+        self.apply(transition, t, &state, &state, holding(still))?;
+        self.resume(t, &state, None)?;
         Ok(Next::Continue)
     }
 
-    /// After a restart in the current mode: the lift-off test's margins at the mode's start.
+    /// After a restart in the current mode: the lift-off test's margin at the mode's start.
     pub(super) fn enter_mode(&mut self, t: f64) -> Result<(), Error> {
         let held = self.held();
-        let y = self.y.clone();
-        let (q, q_dot) = y.split_at(self.n);
-        if let Some(index) = held.only() {
-            self.lift_margin_start = self.normal(index, t, q, q_dot)?.lift_margin();
-        } else if !held.is_empty() {
-            self.set_margin_start = self.set_margin(held, t, &y)?;
+        if held.is_empty() {
+            return Ok(());
         }
+        let y = self.y.clone();
+        self.margin_start = self.margin_of(held, t, &y)?;
         Ok(())
     }
 
     /// The largest lift margin of the constraints held in `set` at `(t, y)`: positive where one
-    /// of them would have to pull.
-    pub(super) fn set_margin(&mut self, set: ActiveSet, t: f64, y: &[f64]) -> Result<f64, Error> {
+    /// of them would have to pull ([`contact::margin`]).
+    pub(super) fn margin_of(&mut self, set: ActiveSet, t: f64, y: &[f64]) -> Result<f64, Error> {
         let (q, q_dot) = y.split_at(self.n);
+        let mut w = std::mem::take(&mut self.w);
         let mut acc = vec![0.0; self.n];
-        let held = contact::held_acceleration(&self.mech, set, t, q, q_dot, &mut acc);
-        let (_, hold) = held.map_err(|err| self.fail_dynamics(err, t, y))?;
-        Ok(hold.margin())
-    }
-
-    /// After a step held on two or more constraints: another constraint reached (an impact on
-    /// all of them), or one of them letting go (its multiplier reaching 0, where law 1 decides
-    /// again which hold).
-    pub(super) fn after_set_step(&mut self, set: ActiveSet) -> Result<Next, Error> {
-        let (t0, t1) = (self.stepper.t_previous(), self.stepper.t());
-        let n = self.n;
-        if let Some((other, t)) = self.earliest_crossing(t0, t1, set)? {
-            return self.reached_while_held(other, t);
-        }
-        let end = self.stepper.y().to_vec();
-        let margin_end = self.set_margin(set, t1, &end)?;
-        let margin_start = self.set_margin_start;
-        let next_bound = self.lift_trend(set, (t0, t1), (margin_start, margin_end))?;
-        let dip = matches!(next_bound, Some(None));
-        let crossing = if !dip && lift_ruled_out(margin_start, margin_end) {
-            None
-        } else {
-            self.dense()?;
-            let (stepper, mech, cubic) = (&self.stepper, self.mech, self.cubic);
-            let mut y = vec![0.0; 2 * n];
-            let mut acc = vec![0.0; n];
-            first_crossing(t0, t1, |t| {
-                interpolate(stepper, cubic, t, &mut y);
-                let (q, q_dot) = y.split_at(n);
-                let margin = contact::held_acceleration(&mech, set, t, q, q_dot, &mut acc)
-                    .map_or(f64::NAN, |(_, hold)| hold.margin());
-                (lift_guard(margin), None)
-            })
-        };
-        self.set_margin_start = margin_end;
-        if let Some(c) = crossing {
-            let t = c.t_violating;
-            self.emit_grid_before(t)?;
-            let mut state = self.state_at(t)?;
-            let copy = state.clone();
-            project_onto(&self.mech, set, t, n, &mut state)
-                .map_err(|err| self.fail_dynamics(err, t, &copy))?;
-            return self.set_liftoff(set, t, state);
-        }
-        self.flight_bound = next_bound.flatten().unwrap_or(f64::INFINITY);
-        self.commit_step()?;
-        Ok(Next::Continue)
-    }
-
-    /// Some constraints of `set` let go at `t`: law 1 on the set decides which still hold (at
-    /// least the one whose margin is largest goes).
-    pub(super) fn set_liftoff(
-        &mut self,
-        set: ActiveSet,
-        t: f64,
-        state: Vec<f64>,
-    ) -> Result<Next, Error> {
-        let mut held = self.held_of(set, t, &state)?;
-        if held == set {
-            // At the root itself law 1 may still see the force at 0: the largest margin goes.
-            let (q, q_dot) = state.split_at(self.n);
-            let mut acc = vec![0.0; self.n];
-            let solved = contact::held_acceleration(&self.mech, set, t, q, q_dot, &mut acc)
-                .map(|(c, hold)| (hold.margins, c.indices));
-            let (margins, indices) = solved.map_err(|err| self.fail_dynamics(err, t, &state))?;
-            let worst = (0..margins.len())
-                .max_by(|&i, &j| margins[i].total_cmp(&margins[j]))
-                .unwrap_or(0);
-            held = set.minus(ActiveSet::single(indices[worst]));
-        }
-        let gone = set.minus(held);
-        let index = gone.iter().next().unwrap_or(0);
-        let mode = holding(held);
-        let change = (gone, Vec::new());
-        self.record_event(EventKind::Liftoff, index, change, t, &state, &state, mode)?;
-        self.sequence.clear();
-        self.accumulation.clear();
-        self.restart(t, &state, None)?;
-        self.enter_mode(t)?;
-        Ok(Next::Continue)
+        let margin = contact::margin(&self.mech, set, t, q, q_dot, &mut w, &mut acc);
+        self.w = w;
+        margin.map_err(|err| self.fail_dynamics(err, t, y))
     }
 }
+
+/// How many relative tolerances of the margins a held step's second difference of its margins
+/// must exceed to bound the next step ([`Runner::lift_trend`]): below, it is the error of the
+/// cubic through the step's ends.
+const CUBIC_NOISE: f64 = 1e3;
 
 /// Whether the lift margins at a step's ends rule out a lift-off inside it without searching:
 /// both negative by more than they differ.

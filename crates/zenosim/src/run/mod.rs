@@ -5,14 +5,21 @@
 //! root on the dense output, save the state before, apply the effect, save the state after,
 //! restart the integrator from there (its caches are rebuilt). The loop ([`Runner::drive`]) takes
 //! a step in the current mode and hands it to the mode's logic, one file each:
-//! - `equations.rs`: the equations of motion of a mode (free, held on one constraint, on a set);
+//! - `equations.rs`: the equations of motion of a mode (free, or held on a set of constraints);
 //! - `flight.rs`: after a free step, a guard crossed: the event state, and the constraints
-//!   closed there;
-//! - `impact.rs`: the impact law on one constraint or a set, and what holds after it;
+//!   reached at that instant;
+//! - `impact.rs`: the impact law on the constraints reached (and those held), and what holds
+//!   after it;
 //! - `completion.rs`: the Zeno rules and the switch through `R∞` (or the stall);
-//! - `held.rs`: after a step on one constraint or a set: another reached, or lift-off;
-//! - `record.rs`: events, intervals and samples;
+//! - `held.rs`: after a step held on a set: another constraint reached, or lift-off;
+//! - `mode.rs`: the transitions between modes (impact, switch, lift-off), each applied in one
+//!   place, and the restart after them;
+//! - `watch.rs`: the impacts that may be accumulating to a Zeno point;
+//! - `record.rs`, `work.rs`: events, intervals, samples and the energy balance;
 //! - `failure.rs`: errors with their context, and ending a run that keeps what it computed.
+//!
+//! One constraint is a set of size 1 throughout: where one constraint can be asked more
+//! cheaply than a set, [`crate::contact`]'s set operations do so themselves.
 //!
 //! The laws for several contacts are stated in docs/contact-laws.md.
 
@@ -22,24 +29,21 @@ mod failure;
 mod flight;
 mod held;
 mod impact;
+mod mode;
 mod record;
+mod watch;
 mod work;
 
 use crate::error::Error;
-use crate::execution::{
-    ActiveSet, Event, Execution, HybridInterval, Mode, Outcome, RunStats, Work, ZenoPoint,
-};
+use crate::execution::{ActiveSet, Execution, HybridInterval, Mode, Outcome, RunStats};
 use crate::integrator::{StepError, Stepper};
 use crate::mechanics::{DynamicsError, Mechanics};
 use crate::model::HybridLagrangian;
 use crate::observer::Observer;
 use crate::simulation::Simulation;
-use crate::zeno::{Accumulation, ImpactSequence};
 use equations::Equations;
-use record::split;
-
-/// Events in a row that may not advance time before the run treats them as chattering.
-const STUCK_EVENTS: usize = 32;
+use record::{split, Recorder};
+use watch::ZenoWatch;
 
 /// `Auto` switches when the next bounce is within this many ulps of the guard's rounding: there
 /// its height is known to about 1e-4, and the impacts after it are noise.
@@ -65,54 +69,26 @@ fn interpolate(stepper: &Stepper, cubic: bool, t: f64, out: &mut [f64]) {
     }
 }
 
-/// The mode that holds `set`: free where it is empty ([`Runner::held`] the other way).
-fn holding(set: ActiveSet) -> Mode {
-    if set.is_empty() {
-        Mode::Free
-    } else {
-        Mode::Constrained(set)
-    }
-}
-
-/// One run in progress.
+/// One run in progress: the loop's own state (the mode, the committed time and state, what
+/// the next step needs), the record it writes, and the Zeno watch.
 pub(crate) struct Runner<'s, 'a, L, O> {
     sim: &'s Simulation<'a, L>,
     mech: Mechanics<'a, L>,
-    observer: &'s mut O,
     stepper: Stepper,
     n: usize,
     mode: Mode,
     /// The last committed time and state.
     t: f64,
     y: Vec<f64>,
-    interval_start: f64,
-    intervals: Vec<HybridInterval>,
-    events: Vec<Event>,
-    zeno: Vec<ZenoPoint>,
-    impacts: u64,
-    spurious: u64,
-    sequence: ImpactSequence,
-    /// The impacts of a sequence that may accumulate over several constraints.
-    accumulation: Accumulation,
-    last_event_t: f64,
-    stuck: usize,
     /// The run's own time scale: its first step, from the motion at the start (the integrator's
     /// `hinit`). Near `t = 0` the run's time resolution is a fraction of it
     /// ([`Runner::time_resolution`]).
     time_scale: f64,
     /// The largest next step, from the predicted flight after an impact.
     flight_bound: f64,
-    /// [`Normal::lift_margin`] of the active constraint at the start of the current step.
-    lift_margin_start: f64,
-    /// On two or more constraints, the largest of their lift margins
-    /// ([`crate::contact::Contacts::hold`]) at the start of the current step.
-    set_margin_start: f64,
-    /// The next time on a uniform output grid.
-    next_output: f64,
-    wants_samples: bool,
-    /// Set when the observer asked to stop while a step's output grid was being written: the
-    /// rest of that step's samples are skipped, and the run stops before its next step.
-    interrupt_asked: bool,
+    /// The lift margin of the held constraints ([`crate::contact::margin`]) at the start of the
+    /// current step.
+    margin_start: f64,
     /// Whether free flight is a parabola ([`HybridLagrangian::parabolic_flight`]).
     parabolic: bool,
     /// Whether the last step is a free flight on a parabola (declared, and the acceleration the
@@ -121,19 +97,12 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     /// there, instead of its dense output, and the state at an impact without stepping to it
     /// again.
     cubic: bool,
-    /// The last sample sent, so that a state shared by two events is sent once.
-    last_sample: (f64, Mode, Vec<f64>),
+    /// What the run records: events, intervals, Zeno points, samples, the energy balance.
+    record: Recorder<'s, O>,
+    /// The impacts that may be accumulating.
+    watch: ZenoWatch,
     scratch: Vec<f64>,
     w: Vec<f64>,
-    h_buf: Vec<f64>,
-    lambda_buf: Vec<f64>,
-    /// The energy balance up to `work_t` (`work.rs`), which may run ahead of `t` inside a
-    /// step, and the balance at `t` itself: the record's.
-    work: Work,
-    work_t: f64,
-    work_at_t: Work,
-    /// The loss and the work of the impact being recorded, from its law (`work.rs`).
-    jump: Option<(f64, f64)>,
 }
 
 /// What the post-step logic decided.
@@ -152,40 +121,20 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         Self {
             sim,
             mech: Mechanics::new(sim.model),
-            wants_samples: observer.wants_samples(),
-            interrupt_asked: false,
-            observer,
             stepper: Stepper::new(options.method, 2 * n, options.tolerances),
             n,
             mode: Mode::Free,
             t: 0.0,
             y,
-            interval_start: 0.0,
-            intervals: Vec::new(),
-            events: Vec::new(),
-            zeno: Vec::new(),
-            impacts: 0,
-            spurious: 0,
-            sequence: ImpactSequence::default(),
-            accumulation: Accumulation::default(),
-            last_event_t: f64::NEG_INFINITY,
-            stuck: 0,
             time_scale: f64::MIN_POSITIVE,
             flight_bound: f64::INFINITY,
-            lift_margin_start: 0.0,
-            set_margin_start: 0.0,
-            next_output: 0.0,
+            margin_start: 0.0,
             parabolic: sim.model.parabolic_flight(),
             cubic: false,
-            last_sample: (f64::NAN, Mode::Free, vec![f64::NAN; 2 * n]),
+            record: Recorder::new(observer, n, m),
+            watch: ZenoWatch::new(),
             scratch: vec![0.0; 2 * n],
             w: vec![0.0; n],
-            h_buf: vec![0.0; m],
-            lambda_buf: vec![0.0; m],
-            work: Work::default(),
-            work_t: 0.0,
-            work_at_t: Work::default(),
-            jump: None,
         }
     }
 
@@ -195,17 +144,19 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             Ok(outcome) => outcome,
             Err(error) => Outcome::Failed(error),
         };
-        self.intervals.push(HybridInterval {
-            start: self.interval_start,
+        let record = self.record;
+        let mut intervals = record.intervals;
+        intervals.push(HybridInterval {
+            start: record.interval_start,
             end: self.t,
             mode: self.mode,
         });
         let stats = self.stepper.stats();
         Execution {
             outcome,
-            intervals: self.intervals,
-            events: self.events,
-            zeno: self.zeno,
+            intervals,
+            events: record.events,
+            zeno: record.zeno,
             t_final: self.t,
             final_state: split(&self.y, self.n),
             final_mode: self.mode,
@@ -213,10 +164,10 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 steps: stats.steps,
                 rejected_steps: stats.rejected_steps,
                 rhs_evals: stats.rhs_evals,
-                impacts: self.impacts,
-                spurious_events: self.spurious,
+                impacts: record.impacts,
+                spurious_events: record.spurious,
             },
-            work: self.work_at_t,
+            work: record.work_at_t,
         }
     }
 
@@ -231,7 +182,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             return Ok(outcome);
         }
         while self.t < options.t_end {
-            if self.interrupt_asked || self.observer.interrupted() {
+            if self.record.interrupt_asked || self.record.observer.interrupted() {
                 // The state where it stops ends the trajectory (on a uniform output grid too).
                 let (t, y) = (self.t, self.y.clone());
                 self.advance_work(t)?;
@@ -251,13 +202,10 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             self.cubic = self.parabolic_step();
             let next = match self.mode {
                 Mode::Free => self.after_free_step()?,
-                Mode::Constrained(active) => match active.only() {
-                    Some(index) => {
-                        let end = eqs.end.filter(|&(t, _)| t == self.stepper.t());
-                        self.after_constrained_step(index, end.map(|(_, normal)| normal))?
-                    }
-                    None => self.after_set_step(active)?,
-                },
+                Mode::Constrained(held) => {
+                    let end = eqs.end.filter(|&(t, _)| t == self.stepper.t());
+                    self.after_held_step(held, end.map(|(_, normal)| normal))?
+                }
             };
             if let Next::Stop(outcome) = next {
                 return Ok(outcome);
@@ -267,18 +215,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
     }
 
     fn equations(&self) -> Equations<'a, L> {
-        let held = self.held();
-        Equations {
-            mech: self.mech,
-            active: held.only(),
-            set: if held.len() >= 2 {
-                held
-            } else {
-                ActiveSet::empty()
-            },
-            n: self.n,
-            end: None,
-        }
+        Equations::new(self.mech, self.held(), self.n)
     }
 
     /// The constraints held in the current mode.

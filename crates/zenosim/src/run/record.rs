@@ -1,15 +1,70 @@
 //! The record: events with their states, the hybrid time domain, and the samples sent to the
 //! observer (every step, or a uniform grid off the dense output).
 
-use super::equations::project_onto;
 use super::{interpolate, Runner};
 use crate::contact::{self};
 use crate::derivatives::energy;
 use crate::error::Error;
-use crate::execution::{ActiveSet, Event, EventKind, HybridInterval, Mode, State};
+use crate::execution::{ActiveSet, Event, EventKind, HybridInterval, Mode, State, Work, ZenoPoint};
 use crate::model::HybridLagrangian;
 use crate::observer::{Observer, Sample};
 use crate::options::OutputGrid;
+
+/// What a run records, and where it sends it: the hybrid time domain, the events, the Zeno
+/// points and the counts the execution reports; the samples sent to the observer; the energy
+/// balance (`work.rs`).
+pub(super) struct Recorder<'s, O> {
+    pub observer: &'s mut O,
+    pub wants_samples: bool,
+    /// Set when the observer asked to stop while a step's output grid was being written: the
+    /// rest of that step's samples are skipped, and the run stops before its next step.
+    pub interrupt_asked: bool,
+    /// The next time on a uniform output grid.
+    pub next_output: f64,
+    /// Where the current interval of the hybrid time domain began.
+    pub interval_start: f64,
+    pub intervals: Vec<HybridInterval>,
+    pub events: Vec<Event>,
+    pub zeno: Vec<ZenoPoint>,
+    pub impacts: u64,
+    pub spurious: u64,
+    /// The last sample sent, so that a state shared by two events is sent once.
+    pub last_sample: (f64, Mode, Vec<f64>),
+    pub h_buf: Vec<f64>,
+    pub lambda_buf: Vec<f64>,
+    /// The energy balance up to `work_t` (`work.rs`), which may run ahead of `t` inside a
+    /// step, and the balance at `t` itself: the record's.
+    pub work: Work,
+    pub work_t: f64,
+    pub work_at_t: Work,
+    /// The loss and the work of the impact being recorded, from its law (`work.rs`).
+    pub jump: Option<(f64, f64)>,
+}
+
+impl<'s, O: Observer> Recorder<'s, O> {
+    /// The record of a run of `n` coordinates and `m` constraints, sent to `observer`.
+    pub fn new(observer: &'s mut O, n: usize, m: usize) -> Self {
+        Self {
+            wants_samples: observer.wants_samples(),
+            observer,
+            interrupt_asked: false,
+            next_output: 0.0,
+            interval_start: 0.0,
+            intervals: Vec::new(),
+            events: Vec::new(),
+            zeno: Vec::new(),
+            impacts: 0,
+            spurious: 0,
+            last_sample: (f64::NAN, Mode::Free, vec![f64::NAN; 2 * n]),
+            h_buf: vec![0.0; m],
+            lambda_buf: vec![0.0; m],
+            work: Work::default(),
+            work_t: 0.0,
+            work_at_t: Work::default(),
+            jump: None,
+        }
+    }
+}
 
 impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     /// Records an event at `t` from `before` (in the current mode) to `after` (in `new_mode`),
@@ -27,10 +82,10 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         new_mode: Mode,
     ) -> Result<(), Error> {
         let limit = self.sim.options.max_events;
-        if self.events.len() as u64 >= limit {
+        if self.record.events.len() as u64 >= limit {
             // How quickly the last events came, to tell a storm from a long Zeno sequence.
-            let count = self.events.len().min(100);
-            let recent = self.events[self.events.len() - count..]
+            let count = self.record.events.len().min(100);
+            let recent = self.record.events[self.record.events.len() - count..]
                 .first()
                 .map(|first| (count as u64, t - first.t));
             let error = Error::Limit {
@@ -54,14 +109,14 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             before: split(before, self.n),
             after: split(after, self.n),
         };
-        self.observer.event(&event);
-        self.events.push(event);
-        self.intervals.push(HybridInterval {
-            start: self.interval_start,
+        self.record.observer.event(&event);
+        self.record.events.push(event);
+        self.record.intervals.push(HybridInterval {
+            start: self.record.interval_start,
             end: t,
             mode: self.mode,
         });
-        self.interval_start = t;
+        self.record.interval_start = t;
         self.mode = new_mode;
         self.emit(t, after, new_mode)?;
         Ok(())
@@ -73,7 +128,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         self.advance_work(t1)?;
         match self.sim.options.output {
             // (An observer that takes no samples costs no copy of the state.)
-            OutputGrid::Steps if self.wants_samples => {
+            OutputGrid::Steps if self.record.wants_samples => {
                 let y = self.stepper.y().to_vec();
                 self.emit(t1, &y, self.mode)?;
             }
@@ -83,8 +138,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         // (`commit_time`, without copying the state first.)
         self.t = t1;
         self.y.copy_from_slice(self.stepper.y());
-        if self.work_t == t1 {
-            self.work_at_t = self.work;
+        if self.record.work_t == t1 {
+            self.record.work_at_t = self.record.work;
         }
         Ok(())
     }
@@ -100,7 +155,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             let y0 = self.y.clone();
             self.emit(0.0, &y0, self.mode)?;
             if let OutputGrid::Uniform(dt) = self.sim.options.output {
-                self.next_output = dt;
+                self.record.next_output = dt;
             }
             return Ok(());
         }
@@ -111,40 +166,40 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let OutputGrid::Uniform(dt) = self.sim.options.output else {
             return Ok(());
         };
-        if !self.wants_samples {
+        if !self.record.wants_samples {
             return Ok(());
         }
-        if self.next_output > t || (!inclusive && self.next_output == t) {
+        if self.record.next_output > t || (!inclusive && self.record.next_output == t) {
             return Ok(());
         }
         self.dense()?;
         let mut y = vec![0.0; 2 * self.n];
         let mut written = 0_u32;
-        while self.next_output < t || (inclusive && self.next_output == t) {
+        while self.record.next_output < t || (inclusive && self.record.next_output == t) {
             // One step may hold millions of grid points (a body at rest, a fine `dt`): the
             // observer is asked every few thousand whether to stop, as before every step.
             written = written.wrapping_add(1);
-            if written.is_multiple_of(4096) && self.observer.interrupted() {
-                self.interrupt_asked = true;
+            if written.is_multiple_of(4096) && self.record.observer.interrupted() {
+                self.record.interrupt_asked = true;
                 return Ok(());
             }
-            let to = self.next_output;
+            let to = self.record.next_output;
             interpolate(&self.stepper, self.cubic, to, &mut y);
-            project_onto(&self.mech, self.held(), to, self.n, &mut y)
+            contact::project_onto(&self.mech, self.held(), to, self.n, &mut y)
                 .map_err(|err| self.dynamics_error(err, to, &self.y.clone()))?;
             self.emit(to, &y, self.mode)?;
             let k = (to / dt).round() + 1.0;
-            self.next_output = k * dt;
+            self.record.next_output = k * dt;
         }
         Ok(())
     }
 
     /// Sends one sample to the observer.
     pub(super) fn emit(&mut self, t: f64, y: &[f64], mode: Mode) -> Result<(), Error> {
-        if !self.wants_samples {
+        if !self.record.wants_samples {
             return Ok(());
         }
-        let (last_t, last_mode, last_y) = &mut self.last_sample;
+        let (last_t, last_mode, last_y) = &mut self.record.last_sample;
         if *last_t == t && *last_mode == mode && last_y.as_slice() == y {
             return Ok(());
         }
@@ -152,26 +207,18 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         last_y.copy_from_slice(y);
         let (q, q_dot) = y.split_at(self.n);
         let model = self.sim.model;
-        for (i, h) in self.h_buf.iter_mut().enumerate() {
+        for (i, h) in self.record.h_buf.iter_mut().enumerate() {
             *h = model.constraint_at(i, t, q);
         }
-        self.lambda_buf.iter_mut().for_each(|l| *l = 0.0);
-        if let Mode::Constrained(active) = mode {
-            if let Some(index) = active.only() {
-                let mut w = std::mem::take(&mut self.w);
-                let normal = self.mech.normal(index, t, q, q_dot, &mut w);
-                self.w = w;
-                self.lambda_buf[index] = normal
-                    .map_err(|err| self.dynamics_error(err, t, y))?
-                    .lambda();
-            } else {
-                let mut acc = vec![0.0; self.n];
-                let held = contact::held_acceleration(&self.mech, active, t, q, q_dot, &mut acc);
-                let (contacts, hold) = held.map_err(|err| self.dynamics_error(err, t, y))?;
-                for (&index, l) in contacts.indices.iter().zip(hold.lambda) {
-                    self.lambda_buf[index] = l;
-                }
-            }
+        self.record.lambda_buf.iter_mut().for_each(|l| *l = 0.0);
+        if let Mode::Constrained(held) = mode {
+            let mut w = std::mem::take(&mut self.w);
+            let lambda = &mut self.record.lambda_buf;
+            let found = contact::multipliers(&self.mech, held, t, q, q_dot, &mut w, |i, l, _| {
+                lambda[i] = l;
+            });
+            self.w = w;
+            found.map_err(|err| self.dynamics_error(err, t, y))?;
         }
         let work = self.work_at(t)?;
         let sample = Sample {
@@ -179,12 +226,12 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             mode,
             q,
             q_dot,
-            h: &self.h_buf,
-            lambda: &self.lambda_buf,
+            h: &self.record.h_buf,
+            lambda: &self.record.lambda_buf,
             energy: energy(model, t, q, q_dot),
             work,
         };
-        self.observer.sample(&sample);
+        self.record.observer.sample(&sample);
         Ok(())
     }
 }

@@ -36,19 +36,19 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     pub(super) fn commit_time(&mut self, t: f64, y: &[f64]) {
         self.t = t;
         self.y.copy_from_slice(y);
-        if self.work_t == t {
-            self.work_at_t = self.work;
+        if self.record.work_t == t {
+            self.record.work_at_t = self.record.work;
         }
     }
 
     /// The energy balance at `t`, within the last step (from the committed balance at
     /// `work_t`, not committing it): for a sample.
     pub(super) fn work_at(&mut self, t: f64) -> Result<Work, Error> {
-        let mut work = self.work;
-        if self.sim.model.is_autonomous() || t == self.work_t {
+        let mut work = self.record.work;
+        if self.sim.model.is_autonomous() || t == self.record.work_t {
             return Ok(work);
         }
-        let [forces, drive, constraints] = self.integrate_power(self.work_t, t)?;
+        let [forces, drive, constraints] = self.integrate_power(self.record.work_t, t)?;
         work.forces += forces;
         work.drive += drive;
         work.constraints += constraints;
@@ -59,9 +59,9 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     #[inline]
     pub(super) fn advance_work(&mut self, t: f64) -> Result<(), Error> {
         if !self.sim.model.is_autonomous() {
-            self.work = self.work_at(t)?;
+            self.record.work = self.work_at(t)?;
         }
-        self.work_t = t;
+        self.record.work_t = t;
         Ok(())
     }
 
@@ -127,24 +127,13 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     fn power(&mut self, t: f64, y: &[f64]) -> Result<[f64; 3], DynamicsError> {
         let (q, q_dot) = y.split_at(self.n);
         let (forces, drive) = powers(self.sim.model, t, q, q_dot);
-        let held = self.held();
-        let constraints = if let Some(index) = held.only() {
-            let mut w = vec![0.0; self.n];
-            let normal = self.mech.normal(index, t, q, q_dot, &mut w)?;
-            normal.lambda() * normal.h_t
-        } else if held.is_empty() {
-            0.0
-        } else {
-            let mut acc = vec![0.0; self.n];
-            let (contacts, hold) =
-                contact::held_acceleration(&self.mech, held, t, q, q_dot, &mut acc)?;
-            hold.lambda
-                .iter()
-                .zip(&contacts.normals)
-                .map(|(l, normal)| l * normal.h_t)
-                .sum()
-        };
-        Ok([forces, drive, constraints])
+        // Σ λᵢ ∂ₜhᵢ, summed as `Iterator::sum` does (from −0), 0 where nothing is held.
+        let mut constraints: Option<f64> = None;
+        let mut w = vec![0.0; self.n];
+        contact::multipliers(&self.mech, self.held(), t, q, q_dot, &mut w, |_, l, h_t| {
+            constraints = Some(constraints.unwrap_or(-0.0) + l * h_t);
+        })?;
+        Ok([forces, drive, constraints.unwrap_or(0.0)])
     }
 
     /// The work `−Σ Λᵢ ∂ₜhᵢ` of the impulses that took the normal velocities of `contacts` from
@@ -171,27 +160,9 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             .sum::<f64>())
     }
 
-    /// The impact about to be recorded: impulses `Λᵢ`, normal velocities `ḣᵢ⁻` and `ḣᵢ⁺` (the
-    /// law's), and `∂ₜhᵢ`. Its loss `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻)` and its work `−Σ Λᵢ ∂ₜhᵢ` are kept for
-    /// [`Runner::record_jump`]: no evaluation.
-    pub(super) fn impact_jump(
-        &mut self,
-        impulses: &[f64],
-        h_dot_before: &[f64],
-        h_dot_after: &[f64],
-        h_t: &[f64],
-    ) {
-        let mut loss = 0.0;
-        let mut work = 0.0;
-        for (i, &impulse) in impulses.iter().enumerate() {
-            loss -= 0.5 * impulse * (h_dot_after[i] + h_dot_before[i]);
-            work -= impulse * h_t[i];
-        }
-        self.jump = Some((loss, work));
-    }
-
     /// The jump of an event at `t` from `before` to `after` in the balance: an impact's
-    /// impulses lose `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻)` and do the work `−Σ Λᵢ ∂ₜhᵢ` ([`Runner::impact_jump`]);
+    /// impulses lose `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻)` and do the work `−Σ Λᵢ ∂ₜhᵢ` (their law's,
+    /// [`crate::contact::ImpactLaw`]);
     /// any other change of state (the switch at a Zeno point onto `contacts`) loses what the
     /// energy measures, less its impulse's work on a surface that moves.
     pub(super) fn record_jump(
@@ -205,10 +176,10 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let n = self.n;
         let model = self.sim.model;
         if kind == EventKind::Impact {
-            // From the law, as the impact left it (`impact_jump`).
-            let (loss, work) = self.jump.take().unwrap_or((0.0, 0.0));
-            self.work.impact_loss += loss;
-            self.work.constraints += work;
+            // From the law, as the impact left it (`ImpactLaw`).
+            let (loss, work) = self.record.jump.take().unwrap_or((0.0, 0.0));
+            self.record.work.impact_loss += loss;
+            self.record.work.constraints += work;
         } else if before != after {
             let e_before = energy(model, t, &before[..n], &before[n..]);
             let e_after = energy(model, t, &after[..n], &after[n..]);
@@ -220,8 +191,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 self.impulse_work(contacts, t, before, after)
                     .map_err(|err| self.dynamics_error(err, t, after))?
             };
-            self.work.constraints += impulse_work;
-            self.work.impact_loss += e_before - e_after + impulse_work;
+            self.record.work.constraints += impulse_work;
+            self.record.work.impact_loss += e_before - e_after + impulse_work;
         }
         Ok(())
     }
