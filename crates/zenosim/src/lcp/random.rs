@@ -69,7 +69,7 @@ pub(super) fn enumerate(m: &[f64], q: &[f64]) -> (Vec<f64>, f64) {
             for r in 0..c {
                 d -= l[c * p + r] * l[c * p + r];
             }
-            if !(d > 0.0) {
+            if d.is_nan() || d <= 0.0 {
                 ok = false;
                 break;
             }
