@@ -489,7 +489,7 @@ impl HybridLagrangian for BlockOnSpring {
 /// corner joined the impact only within the time resolution of the floor itself. The impacts
 /// then alternated between the corners and set the block spinning. A corner now joins where
 /// it is reached within the time resolution of the corner that was: the block lands flat at
-/// every impact (θ and θ̇ stay 0 by symmetry), its normal velocity reversed by e each time,
+/// every impact (θ and θ̇ stay 0 by symmetry, to rounding), its normal velocity reversed by e each time,
 /// and comes to rest flat at one Zeno point on both corners.
 #[test]
 fn two_corners_landing_together_were_split_into_alternating_impacts() {
@@ -514,8 +514,10 @@ fn two_corners_landing_together_were_split_into_alternating_impacts() {
     assert!(impacts.len() >= 3, "{impacts:?}");
     for impact in &impacts {
         assert_eq!(impact.contacts, both, "{impact:?}");
-        assert_eq!(impact.after.q[2], 0.0);
-        assert_eq!(impact.after.q_dot[2], 0.0);
+        // Flat to rounding (the impulses on the two corners are equal to their rounding; the
+        // split impacts spun the block at 1.8 rad/s).
+        assert!(impact.after.q[2].abs() <= 1e-15, "{impact:?}");
+        assert!(impact.after.q_dot[2].abs() <= 1e-15, "{impact:?}");
         let ratio = -impact.after.q_dot[1] / impact.before.q_dot[1];
         assert!((ratio - e).abs() < 1e-9, "{impact:?}");
     }
