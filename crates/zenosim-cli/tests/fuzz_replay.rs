@@ -8,6 +8,8 @@
 //!
 //! `ZENOSIM_FUZZ_CASES=N` runs `N` mutations per target instead of [`MUTATIONS`].
 
+#[path = "../../../fuzz/checks/lcp.rs"]
+mod lcp;
 #[path = "../../../fuzz/checks/load_model.rs"]
 mod load_model;
 #[path = "../../../fuzz/checks/plot.rs"]
@@ -74,6 +76,14 @@ const PLOT: Target = Target {
     inputs: &["fuzz/seeds/plot", "fuzz/regressions/plot"],
     dict: "fuzz/plot.dict",
     max_len: 16384,
+};
+
+const LCP: Target = Target {
+    name: "lcp",
+    check: lcp::check,
+    inputs: &["fuzz/seeds/lcp", "fuzz/regressions/lcp"],
+    dict: "fuzz/lcp.dict",
+    max_len: 2048,
 };
 
 impl Target {
@@ -300,4 +310,14 @@ fn plot_seeds_and_regressions_pass() {
 #[test]
 fn plot_mutations_pass() {
     PLOT.mutate();
+}
+
+#[test]
+fn lcp_seeds_and_regressions_pass() {
+    LCP.replay();
+}
+
+#[test]
+fn lcp_mutations_pass() {
+    LCP.mutate();
 }

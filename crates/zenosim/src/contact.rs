@@ -171,9 +171,12 @@ impl Contacts {
         for i in 0..k {
             regularized[i * k + i] += ROUNDING_PIVOT * largest;
         }
-        // Not positive definite even so: no least-squares step exists.
-        let singular = |_| DynamicsError::ContactProblem {
+        // Not positive definite even so (W has an eigenvalue below minus its rounding, which
+        // A M⁻¹ Aᵀ cannot have): no least-squares step exists, a numerical failure.
+        let singular = |_| DynamicsError::ContactSolver {
             constraints: self.set,
+            stop: lcp::Stop::Breakdown,
+            conditioning: lcp::conditioning(&self.delassus, k),
         };
         let factor = Cholesky::factor_or_ratio(&regularized, k, 0.0).map_err(singular)?;
         Ok((factor, true))
@@ -206,7 +209,7 @@ impl Contacts {
                 .collect();
             return Ok(Hold { lambda, margins });
         }
-        let solution = lcp::solve(&self.delassus, &b).map_err(|e| self.lcp_error(e))?;
+        let solution = self.solve_forces(&b)?;
         // In units of λ, as above: ḧ over W's diagonal entry.
         let margins = (0..k)
             .map(|i| {
@@ -232,7 +235,7 @@ impl Contacts {
     /// beyond its rounding), which happens only where its force is 0.
     pub fn held_set(&self) -> Result<ActiveSet, DynamicsError> {
         let b: Vec<f64> = self.normals.iter().map(|n| n.h_ddot_free).collect();
-        let solution = lcp::solve(&self.delassus, &b).map_err(|e| self.lcp_error(e))?;
+        let solution = self.solve_forces(&b)?;
         let mut held = ActiveSet::empty();
         for i in 0..self.len() {
             if solution.w[i] <= self.acceleration_round_off(i, &solution.z) {
@@ -257,7 +260,15 @@ impl Contacts {
             .zip(restitution)
             .map(|(n, e)| (1.0 + e) * n.a_q_dot)
             .collect();
-        let solution = lcp::solve(&self.delassus, &c).map_err(|e| self.lcp_error(e))?;
+        // A normal velocity within its rounding is 0 (docs/contact-laws.md, "The LCP solver").
+        let round_off: Vec<f64> = self
+            .normals
+            .iter()
+            .zip(restitution)
+            .map(|(n, e)| (1.0 + e) * n.a_q_dot_round_off)
+            .collect();
+        let solution =
+            lcp::solve_rounded(&self.delassus, &c, &round_off).map_err(|e| self.lcp_error(e))?;
         self.add_directions(&solution.z, q_dot);
         if q_dot.iter().all(|v| v.is_finite()) {
             Ok(solution.z)
@@ -277,14 +288,26 @@ impl Contacts {
         }
     }
 
+    /// Law 1's LCP `0 ≤ f ⊥ W f + ḧ_free ≥ 0` for the right-hand side `b = ḧ_free`, each
+    /// entry within its rounding counting as 0 (docs/contact-laws.md, "The LCP solver").
+    fn solve_forces(&self, b: &[f64]) -> Result<lcp::Solution, DynamicsError> {
+        let round_off: Vec<f64> = self.normals.iter().map(|n| n.h_ddot_round_off).collect();
+        lcp::solve_rounded(&self.delassus, b, &round_off).map_err(|e| self.lcp_error(e))
+    }
+
+    /// The LCP's failure: "no solution" only where it is proven; otherwise the solver's
+    /// failure, with how far from singular `W` is.
     fn lcp_error(&self, error: lcp::LcpError) -> DynamicsError {
         match error {
             lcp::LcpError::NonFinite => DynamicsError::NonFinite,
-            lcp::LcpError::Unsolvable | lcp::LcpError::IterationLimit => {
-                DynamicsError::ContactProblem {
-                    constraints: self.set,
-                }
-            }
+            lcp::LcpError::NoSolution => DynamicsError::ContactProblem {
+                constraints: self.set,
+            },
+            lcp::LcpError::Failed { stop, conditioning } => DynamicsError::ContactSolver {
+                constraints: self.set,
+                stop,
+                conditioning,
+            },
         }
     }
 }

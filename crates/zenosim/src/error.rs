@@ -126,14 +126,29 @@ pub enum Error {
         /// The constraints of the set.
         constraints: Vec<String>,
     },
-    /// The contact problem (the impact law or the contact forces on a set) has no solution that
-    /// Lemke's method finds: no impulses or forces keep the motion admissible.
-    #[error("at t = {}: the contact problem on constraints {} has no solution (Lemke's method ended on a ray): no contact forces keep the motion on the admissible side of all of them at once (their surfaces leave it no way to move from this state); change the geometry or the initial state", Readable(*t), quoted(constraints))]
+    /// The contact problem (the impact law or the contact forces on a set) is proven to have no
+    /// solution: no impulses or forces keep the motion admissible. The proof is a secondary ray
+    /// of Lemke's method, checked against the data ([`crate::lcp::LcpError::NoSolution`]).
+    #[error("at t = {}: the contact problem on constraints {} has no solution: no contact forces keep the motion on the admissible side of all of them at once (their surfaces leave it no way to move from this state; proven to rounding by a secondary ray of Lemke's method); change the geometry or the initial state", Readable(*t), quoted(constraints))]
     ContactProblem {
         /// When.
         t: f64,
         /// The constraints of the set.
         constraints: Vec<String>,
+    },
+    /// The solver of the contact problem on a set failed: it found neither impulses or forces
+    /// that meet the contact law to its accuracy nor a proof that none exist
+    /// ([`crate::lcp::LcpError::Failed`]). A limit of the solver, not a fault of the model.
+    #[error("at t = {}: the solver of the contact problem on constraints {} failed ({stop}): it found neither contact forces that meet the contact law to the accuracy required nor a proof that there are none; their Delassus matrix W = A M⁻¹ Aᵀ is {conditioning}. This is a failure of zenosim's solver, not a fault of the model; where W is ill-conditioned (constraints nearly dependent), making them exactly dependent or clearly independent avoids it", Readable(*t), quoted(constraints))]
+    ContactSolver {
+        /// When.
+        t: f64,
+        /// The constraints of the set.
+        constraints: Vec<String>,
+        /// How the solver's first method stopped.
+        stop: crate::lcp::Stop,
+        /// How far from singular `W` is.
+        conditioning: crate::lcp::Conditioning,
     },
     /// The projection onto `h = 0` did not converge.
     #[error("at t = {}: projecting onto constraint '{constraint}' left |h| = {residual:e}; h = 0 may be singular or unreachable here: write h so that ∂h/∂q does not vanish on h = 0, or use the default completion (the general projection)", Readable(*t))]
@@ -228,5 +243,40 @@ mod tests {
                 .starts_with("at t = 1e-7: the limit of 100000 events was reached, the last 100 of them within 2e-10 s; raise max_events"),
             "{storm}"
         );
+    }
+
+    #[test]
+    fn a_failed_solver_is_not_blamed_on_the_model() {
+        let names = vec!["floor".to_string(), "gap0".to_string()];
+        let failed = Error::ContactSolver {
+            t: 1.5,
+            constraints: names.clone(),
+            stop: crate::lcp::Stop::Cycle,
+            conditioning: crate::lcp::Conditioning::PositiveDefinite { pivot_ratio: 0.5 },
+        }
+        .to_string();
+        assert!(
+            failed.starts_with(
+                "at t = 1.5: the solver of the contact problem on constraints 'floor' and 'gap0' \
+                 failed (the active-set method came back to a set it had left)"
+            ),
+            "{failed}"
+        );
+        assert!(
+            failed.contains(
+                "W = A M⁻¹ Aᵀ is positive definite, its smallest Cholesky pivot 5.0e-1 of its \
+                 diagonal entry (conditioned to about 2e0)"
+            ),
+            "{failed}"
+        );
+        assert!(failed.contains("not a fault of the model"), "{failed}");
+        assert!(!failed.contains("no solution") && !failed.contains("change the geometry"));
+        let proven = Error::ContactProblem {
+            t: 0.0,
+            constraints: names,
+        }
+        .to_string();
+        assert!(proven.contains("has no solution"), "{proven}");
+        assert!(proven.contains("proven"), "{proven}");
     }
 }

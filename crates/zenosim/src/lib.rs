@@ -32,7 +32,8 @@
 //! - [`Derived`]: `M`, `A`, `λ`, the energy and `R∞` at one state;
 //! - [`integrator::Stepper`]: the Runge–Kutta pairs (DOP853, DOPRI5) with dense output;
 //! - [`events::first_crossing`]: event location on a step's dense output;
-//! - [`lcp`]: the small dense LCP solver (Lemke's method) of the contact laws;
+//! - [`lcp`]: the small dense LCP solver of the contact laws (an active-set method for positive
+//!   definite matrices, Lemke's method for the others);
 //! - [`models`]: the paper's examples, and models with forces and a moving surface with their
 //!   closed forms, written in Rust.
 

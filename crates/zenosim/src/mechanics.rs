@@ -32,9 +32,19 @@ pub(crate) enum DynamicsError {
     /// The gradients of a set are nearly but not exactly dependent.
     #[error("the constraints {constraints:?} have nearly dependent gradients")]
     NearlyDependent { constraints: ActiveSet },
-    /// The contact problem on a set has no solution that Lemke's method finds.
+    /// The contact problem on a set is proven to have no solution.
     #[error("the contact problem on {constraints:?} has no solution")]
     ContactProblem { constraints: ActiveSet },
+    /// The solver of the contact problem on a set failed: neither a solution nor a proof that
+    /// none exists.
+    #[error(
+        "the solver of the contact problem on {constraints:?} failed ({stop}; W is {conditioning})"
+    )]
+    ContactSolver {
+        constraints: ActiveSet,
+        stop: crate::lcp::Stop,
+        conditioning: crate::lcp::Conditioning,
+    },
     /// Newton's method did not bring `h` to zero.
     #[error("the projection onto constraint {constraint} left |h| = {residual}")]
     Projection { constraint: usize, residual: f64 },

@@ -55,6 +55,16 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 t,
                 constraints: constraints.iter().map(name).collect(),
             },
+            DynamicsError::ContactSolver {
+                constraints,
+                stop,
+                conditioning,
+            } => Error::ContactSolver {
+                t,
+                constraints: constraints.iter().map(name).collect(),
+                stop,
+                conditioning,
+            },
         }
     }
 

@@ -153,6 +153,7 @@ fn error_time(e: &Error) -> f64 {
         | Error::NonFinite { t }
         | Error::StepSizeUnderflow { t, .. }
         | Error::ContactProblem { t, .. }
+        | Error::ContactSolver { t, .. }
         | Error::Projection { t, .. }
         | Error::Limit { t, .. } => *t,
         other => panic!("not a run-time error: {other:?}"),
