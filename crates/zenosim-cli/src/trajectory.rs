@@ -277,6 +277,8 @@ mod tests {
             q_dot: &[-0.25, 0.0],
             h: &[1.0, 0.0],
             lambda: &[0.0, -9.81],
+            friction: &[0.0, 0.0],
+            grips: zenosim::Grips::none(),
             energy: f64::NAN,
             work: zenosim::Work::default(),
         });
@@ -316,6 +318,8 @@ mod tests {
                 q_dot: &[0.0],
                 h: &[1.0],
                 lambda: &[0.0],
+                friction: &[0.0],
+                grips: zenosim::Grips::none(),
                 energy: 9.0,
                 work: zenosim::Work::default(),
             });
@@ -351,6 +355,7 @@ mod tests {
             drive: 0.0,
             constraints: 3e-7,
             impact_loss: 2.5,
+            friction: 0.0,
         };
         for (t, mode, work) in [
             (0.0, Mode::Free, zenosim::Work::default()),
@@ -363,6 +368,8 @@ mod tests {
                 q_dot: &[-0.5],
                 h: &[1.0],
                 lambda: &[0.0],
+                friction: &[0.0],
+                grips: zenosim::Grips::none(),
                 energy: 9.0,
                 work,
             });

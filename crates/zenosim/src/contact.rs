@@ -11,7 +11,8 @@
 //! Signs: the engine's multiplier `λ` pulls when positive (the contact force is `−Aᵀλ`); the
 //! laws are written with forces and impulses `f = −λ ≥ 0` that push.
 
-use crate::execution::ActiveSet;
+use crate::execution::{ActiveSet, Grips};
+use crate::friction::Frame;
 use crate::lcp;
 use crate::mechanics::{guard_scale, DynamicsError, Mechanics, Normal};
 use crate::model::{Constraint, HybridLagrangian};
@@ -483,6 +484,8 @@ pub(crate) fn project<L: HybridLagrangian>(
 /// surfaces that move (docs/forces-and-time.md): the energy balance without evaluating again.
 pub(crate) struct ImpactLaw {
     pub impulses: Vec<f64>,
+    /// The tangential impulses where the set has friction (else empty).
+    pub tangential: Vec<f64>,
     pub loss: f64,
     pub work: f64,
 }
@@ -500,6 +503,7 @@ impl ImpactLaw {
         }
         Self {
             impulses,
+            tangential: Vec::new(),
             loss,
             work,
         }
@@ -520,9 +524,29 @@ pub(crate) fn impact_law<L: HybridLagrangian>(
     q: &[f64],
     q_dot: &mut [f64],
 ) -> Result<ImpactLaw, (DynamicsError, usize)> {
+    if mech.frictional(set) {
+        let frame = Frame::at(mech, set, t, q, q_dot)?;
+        let restitution: Vec<f64> = frame
+            .indices
+            .iter()
+            .map(|&i| constraints[i].restitution)
+            .collect();
+        let h_t: Vec<f64> = frame.normals.iter().map(|n| n.h_t).collect();
+        let first = frame.indices[0];
+        let law = frame
+            .impact(set, &restitution, &h_t, q_dot)
+            .map_err(|err| (err, first))?;
+        return Ok(ImpactLaw {
+            impulses: law.normal,
+            tangential: law.tangent,
+            loss: law.loss,
+            work: law.work,
+        });
+    }
     if let Some(index) = set.only() {
         let e = constraints[index].restitution;
-        mech.impact(index, e, t, q, q_dot).map_err(|err| (err, index))?;
+        mech.impact(index, e, t, q, q_dot)
+            .map_err(|err| (err, index))?;
         // Pushing, so not below 0 (at rest, `A q̇` may round to either side of it).
         let impulse = -(1.0 + e) * reached.a_q_dot / reached.s;
         let impulse = if impulse > 0.0 { impulse } else { 0.0 };
@@ -556,9 +580,28 @@ pub(crate) fn impact_law<L: HybridLagrangian>(
     }))
 }
 
+/// Law 1 on the constraints `closed` at `(t, q, q̇)`: those that hold, and the friction states
+/// of those with friction (docs/contact-laws.md, law 1; docs/friction.md).
+pub(crate) fn decide<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    closed: ActiveSet,
+    t: f64,
+    q: &[f64],
+    q_dot: &[f64],
+    w: &mut [f64],
+) -> Result<(ActiveSet, Grips), (DynamicsError, usize)> {
+    if !mech.frictional(closed) {
+        return held_of(mech, closed, t, q, q_dot, w).map(|held| (held, Grips::none()));
+    }
+    let frame = Frame::at(mech, closed, t, q, q_dot)?;
+    let first = frame.indices[0];
+    let decision = frame.decide(closed).map_err(|err| (err, first))?;
+    Ok((decision.held, decision.grips))
+}
+
 /// The constraints of `closed` that hold at `(t, q, q̇)` (docs/contact-laws.md, law 1): those
 /// that would not have to pull. One constraint holds while its lift margin is not positive.
-pub(crate) fn held_of<L: HybridLagrangian>(
+fn held_of<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
     closed: ActiveSet,
     t: f64,
@@ -587,16 +630,26 @@ pub(crate) fn held_of<L: HybridLagrangian>(
 /// How far the constraints held in `set` are from letting go at `(t, q, q̇)`: the largest lift
 /// margin, positive where one of them would have to pull (docs/contact-laws.md, law 1). One
 /// constraint: its [`Normal::lift_margin`]. `w` and `acc` are scratch of the model's dimension.
+/// With friction, from any transition of the friction states `grips` too, each margin divided
+/// by its scale in `scales` ([`Frame::margins`]).
+#[allow(clippy::too_many_arguments)]
 #[inline]
 pub(crate) fn margin<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
     set: ActiveSet,
+    grips: Grips,
+    scales: &[f64],
     t: f64,
     q: &[f64],
     q_dot: &[f64],
     w: &mut [f64],
     acc: &mut [f64],
 ) -> Result<f64, DynamicsError> {
+    if mech.frictional(set) {
+        let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+        let forces = frame.forces(set, grips)?;
+        return Ok(frame.margins(&forces, grips, scales));
+    }
     match set.only() {
         Some(index) => Ok(mech.normal(index, t, q, q_dot, w)?.lift_margin()),
         None => Ok(held_acceleration(mech, set, t, q, q_dot, acc)?.1.margin()),
@@ -608,19 +661,28 @@ pub(crate) fn margin<L: HybridLagrangian>(
 pub(crate) fn acceleration<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
     set: ActiveSet,
+    grips: Grips,
     t: f64,
     q: &[f64],
     q_dot: &[f64],
     q_ddot: &mut [f64],
 ) -> Result<(), DynamicsError> {
+    if mech.frictional(set) {
+        let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+        let forces = frame.forces(set, grips)?;
+        q_ddot.copy_from_slice(&forces.q_ddot);
+        return Ok(());
+    }
     if set.len() <= 1 {
-        return mech.acceleration(t, q, q_dot, set.only(), q_ddot).map(|_| ());
+        return mech
+            .acceleration(t, q, q_dot, set.only(), q_ddot)
+            .map(|_| ());
     }
     held_acceleration(mech, set, t, q, q_dot, q_ddot).map(|_| ())
 }
 
 /// The lift margins of the constraints held in `set`, each with its constraint's index, in the
-/// set's order: [`margin`] constraint by constraint.
+/// set's order: [`margin`] constraint by constraint (without friction).
 pub(crate) fn margins<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
     set: ActiveSet,
@@ -631,7 +693,10 @@ pub(crate) fn margins<L: HybridLagrangian>(
     let n = q.len();
     if let Some(index) = set.only() {
         let mut w = vec![0.0; n];
-        return Ok(vec![(index, mech.normal(index, t, q, q_dot, &mut w)?.lift_margin())]);
+        return Ok(vec![(
+            index,
+            mech.normal(index, t, q, q_dot, &mut w)?.lift_margin(),
+        )]);
     }
     let mut acc = vec![0.0; n];
     let (contacts, hold) = held_acceleration(mech, set, t, q, q_dot, &mut acc)?;
@@ -641,20 +706,39 @@ pub(crate) fn margins<L: HybridLagrangian>(
 /// The multipliers `λᵢ` that hold the motion on `set` at `(t, q, q̇)` (engine's sign: the
 /// contact force is `−Aᵢᵀλᵢ`), each with its constraint's index and `∂ₜhᵢ`, in the set's order.
 /// One constraint: `λ = ḧ_free/(A M⁻¹ Aᵀ)` from its mechanics. `w` is scratch of the model's
-/// dimension.
+/// dimension. With friction (in the states `grips`), `each` also has each contact's tangential
+/// force `fₜ` and slip `s` (0 and 0 without friction).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn multipliers<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
     set: ActiveSet,
+    grips: Grips,
     t: f64,
     q: &[f64],
     q_dot: &[f64],
     w: &mut [f64],
-    mut each: impl FnMut(usize, f64, f64),
+    mut each: impl FnMut(usize, f64, f64, f64, f64),
 ) -> Result<(), DynamicsError> {
     let n = q.len();
+    if mech.frictional(set) {
+        let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+        let forces = frame.forces(set, grips)?;
+        for p in 0..frame.len() {
+            let s = frame.tangents[p].as_ref().map_or(0.0, |t| t.slip.s);
+            let normal = &frame.normals[p];
+            each(
+                frame.indices[p],
+                -forces.normal[p],
+                normal.h_t,
+                forces.tangent[p],
+                s,
+            );
+        }
+        return Ok(());
+    }
     if let Some(index) = set.only() {
         let normal = mech.normal(index, t, q, q_dot, w)?;
-        each(index, normal.lambda(), normal.h_t);
+        each(index, normal.lambda(), normal.h_t, 0.0, 0.0);
         return Ok(());
     }
     if set.is_empty() {
@@ -662,26 +746,126 @@ pub(crate) fn multipliers<L: HybridLagrangian>(
     }
     let mut acc = vec![0.0; n];
     let (contacts, hold) = held_acceleration(mech, set, t, q, q_dot, &mut acc)?;
-    for ((&index, lambda), normal) in contacts.indices.iter().zip(hold.lambda).zip(&contacts.normals)
+    for ((&index, lambda), normal) in contacts
+        .indices
+        .iter()
+        .zip(hold.lambda)
+        .zip(&contacts.normals)
     {
-        each(index, lambda, normal.h_t);
+        each(index, lambda, normal.h_t, 0.0, 0.0);
     }
     Ok(())
 }
 
 /// `R∞` onto the constraints of `set` at `y = (q, q̇)` (nothing where the set is empty): one
-/// constraint's projection ([`Mechanics::project`]), or [`project`] onto the set.
+/// constraint's projection ([`Mechanics::project`]), or [`project`] onto the set; then, where
+/// contacts of it stick (`grips`), the velocities onto their `s = 0` too (docs/friction.md).
 pub(crate) fn project_onto<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
     set: ActiveSet,
+    grips: Grips,
     t: f64,
     n: usize,
     y: &mut [f64],
 ) -> Result<(), DynamicsError> {
     let (q, q_dot) = y.split_at_mut(n);
     match set.only() {
-        _ if set.is_empty() => Ok(()),
-        Some(index) => mech.project(index, t, q, q_dot).map(|_| ()),
-        None => project(mech, set, t, q, q_dot),
+        _ if set.is_empty() => return Ok(()),
+        Some(index) => mech.project(index, t, q, q_dot).map(|_| ())?,
+        None => project(mech, set, t, q, q_dot)?,
     }
+    let stick = grips.stick.intersection(set);
+    if stick.is_empty() {
+        return Ok(());
+    }
+    let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+    frame.stop_slip(set, stick, q_dot)
+}
+
+/// The contacts of `set` that slip in the states `grips` and whose slip has reached 0 at
+/// `y = (q, q̇)` (it is 0 or has turned against their direction: a root of their slip margin),
+/// their slips set to 0 by the plastic projection, jointly with `ḣ = 0` on `set` and `s = 0` on
+/// those that stick already (docs/friction.md): law 1 then decides from rest whether they
+/// stick, with the static cone, or slip on, either way. The contacts stopped.
+pub(crate) fn stop_reached_slips<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    grips: Grips,
+    t: f64,
+    n: usize,
+    y: &mut [f64],
+) -> Result<ActiveSet, DynamicsError> {
+    let slipping = grips.slipping().intersection(set);
+    if slipping.is_empty() {
+        return Ok(slipping);
+    }
+    let (q, q_dot) = y.split_at_mut(n);
+    let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+    let mut stopped = ActiveSet::empty();
+    for (p, &index) in frame.indices.iter().enumerate() {
+        let Some(tangent) = &frame.tangents[p] else {
+            continue;
+        };
+        if slipping.contains(index) && grips.direction(index) * tangent.slip.s <= 0.0 {
+            stopped = stopped.with(index);
+        }
+    }
+    if !stopped.is_empty() {
+        frame.stop_slip(set, grips.stick.intersection(set).union(stopped), q_dot)?;
+    }
+    Ok(stopped)
+}
+
+/// At a Zeno point switched `duration` before the point, the kinetic friction the held
+/// motion on `set` in the states `grips` would add over that time taken back from `y`'s
+/// velocities ([`Frame::unwind_slip`]), then `R∞` onto `set` again.
+pub(crate) fn unwind_slip<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    grips: Grips,
+    t: f64,
+    n: usize,
+    y: &mut [f64],
+    duration: f64,
+) -> Result<(), DynamicsError> {
+    if grips.slipping().intersection(set).is_empty() || duration <= 0.0 {
+        return Ok(());
+    }
+    {
+        let (q, q_dot) = y.split_at_mut(n);
+        let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+        frame.unwind_slip(set, grips, duration, q_dot)?;
+    }
+    project_onto(mech, set, grips, t, n, y)
+}
+
+/// The scales of the margins of the contacts held in `set` in the friction states `grips` at
+/// `(t, q, q̇)` ([`Frame::scales`]): taken when a mode with friction starts.
+pub(crate) fn scales<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    grips: Grips,
+    t: f64,
+    q: &[f64],
+    q_dot: &[f64],
+) -> Result<Vec<f64>, DynamicsError> {
+    let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+    let forces = frame.forces(set, grips)?;
+    Ok(frame.scales(&forces))
+}
+
+/// The change of state at a root where law 1 still sees the old states, with friction
+/// ([`Frame::worst_change`]): the held set and friction states after it.
+pub(crate) fn worst_change<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    grips: Grips,
+    scales: &[f64],
+    t: f64,
+    q: &[f64],
+    q_dot: &[f64],
+) -> Result<(ActiveSet, Grips), DynamicsError> {
+    let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+    let forces = frame.forces(set, grips)?;
+    Ok(frame.worst_change(set, &forces, grips, scales))
 }

@@ -50,6 +50,16 @@ pub enum Error {
         /// The value given.
         value: f64,
     },
+    /// Friction coefficients that are not `0 ≤ μₖ ≤ μₛ`, finite.
+    #[error("constraint '{constraint}' has friction coefficients static {static_coefficient}, kinetic {kinetic_coefficient}; they must be finite with 0 ≤ kinetic ≤ static (one coefficient gives both)")]
+    Friction {
+        /// The constraint's name.
+        constraint: String,
+        /// The static coefficient given.
+        static_coefficient: f64,
+        /// The kinetic coefficient given.
+        kinetic_coefficient: f64,
+    },
     /// An option with a value it cannot take.
     #[error("option {option} = {} is invalid: {expected}", Readable(*value))]
     Option {
@@ -149,6 +159,17 @@ pub enum Error {
         stop: crate::lcp::Stop,
         /// How far from singular `W` is.
         conditioning: crate::lcp::Conditioning,
+    },
+    /// Painlevé's paradox (docs/friction.md): with friction, the contact problem on these
+    /// constraints has no solution, or more than one, in the friction states it is in (a
+    /// slipping contact whose normal force would grow as its normal acceleration falls: a rod
+    /// sliding on a rough floor with large `μ`).
+    #[error("at t = {}: Painlevé's paradox at constraints {}: with Coulomb friction the contact problem has no solution or several (the normal force of a slipping contact would grow as its normal acceleration falls); the rigid model with this friction coefficient cannot say what happens next: lower the friction coefficient, or change the geometry", Readable(*t), quoted(constraints))]
+    Painleve {
+        /// When.
+        t: f64,
+        /// The constraints of the contact problem.
+        constraints: Vec<String>,
     },
     /// The projection onto `h = 0` did not converge.
     #[error("at t = {}: projecting onto constraint '{constraint}' left |h| = {residual:e}; h = 0 may be singular or unreachable here: write h so that ∂h/∂q does not vanish on h = 0, or use the default completion (the general projection)", Readable(*t))]

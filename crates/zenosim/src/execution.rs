@@ -41,6 +41,11 @@ impl ActiveSet {
         Self(self.0 & !other.0)
     }
 
+    /// The constraints in both sets.
+    pub const fn intersection(self, other: Self) -> Self {
+        Self(self.0 & other.0)
+    }
+
     /// Whether no constraint is active.
     pub const fn is_empty(self) -> bool {
         self.0 == 0
@@ -64,6 +69,61 @@ impl ActiveSet {
     /// The single active constraint, if exactly one is active.
     pub fn only(self) -> Option<usize> {
         (self.len() == 1).then(|| self.0.trailing_zeros() as usize)
+    }
+}
+
+/// The friction states of the held contacts that have friction (docs/friction.md): those that
+/// stick (`s = 0`), and those that slip forwards (`s > 0`) or backwards (`s < 0`). A held
+/// frictional contact is in exactly one of the three; every other constraint in none.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Grips {
+    /// The contacts that stick.
+    pub stick: ActiveSet,
+    /// The contacts that slip with `s > 0` (the friction force opposes it: `fₜ = −μₖ fₙ`).
+    pub forward: ActiveSet,
+    /// The contacts that slip with `s < 0` (`fₜ = +μₖ fₙ`).
+    pub backward: ActiveSet,
+}
+
+impl Grips {
+    /// No contact sticks or slips.
+    pub const fn none() -> Self {
+        Self {
+            stick: ActiveSet::empty(),
+            forward: ActiveSet::empty(),
+            backward: ActiveSet::empty(),
+        }
+    }
+
+    /// The contacts that slip, either way.
+    pub const fn slipping(self) -> ActiveSet {
+        self.forward.union(self.backward)
+    }
+
+    /// The contacts whose friction state is recorded.
+    pub const fn all(self) -> ActiveSet {
+        self.stick.union(self.slipping())
+    }
+
+    /// The direction of contact `index`'s slip: `1.0` forwards, `-1.0` backwards, `0.0`
+    /// otherwise.
+    pub const fn direction(self, index: usize) -> f64 {
+        if self.forward.contains(index) {
+            1.0
+        } else if self.backward.contains(index) {
+            -1.0
+        } else {
+            0.0
+        }
+    }
+
+    /// The states restricted to the contacts of `set`.
+    pub const fn within(self, set: ActiveSet) -> Self {
+        Self {
+            stick: self.stick.intersection(set),
+            forward: self.forward.intersection(set),
+            backward: self.backward.intersection(set),
+        }
     }
 }
 
@@ -115,15 +175,22 @@ pub enum EventKind {
     Zeno,
     /// The contact force vanished (`λ` reached 0): back to free motion.
     Liftoff,
+    /// Held contacts with friction stopped slipping and stick (docs/friction.md).
+    Stick,
+    /// Held contacts with friction started to slip (their tangential force reached the cone),
+    /// or reversed their slip.
+    Slip,
 }
 
 impl EventKind {
-    /// `"impact"`, `"zeno"` or `"liftoff"`.
+    /// `"impact"`, `"zeno"`, `"liftoff"`, `"stick"` or `"slip"`.
     pub fn name(self) -> &'static str {
         match self {
             EventKind::Impact => "impact",
             EventKind::Zeno => "zeno",
             EventKind::Liftoff => "liftoff",
+            EventKind::Stick => "stick",
+            EventKind::Slip => "slip",
         }
     }
 }
@@ -143,8 +210,14 @@ pub struct Event {
     /// for a lift-off, those that let go.
     pub contacts: ActiveSet,
     /// For an impact, the impulse `Λᵢ ≥ 0` (pushing) on each constraint of `contacts`, in
-    /// increasing index order: `M (q̇⁺ − q̇⁻) = Σ Aᵢᵀ Λᵢ`. Empty for other events.
+    /// increasing index order: `M (q̇⁺ − q̇⁻) = Σ Aᵢᵀ Λᵢ + Sᵢᵀ Λₜ,ᵢ`. Empty for other events.
     pub impulses: Vec<f64>,
+    /// For an impact with friction, the tangential impulse `Λₜ,ᵢ` on each constraint of
+    /// `contacts` (0 on those without friction; docs/friction.md). Empty where no constraint
+    /// of the impact has friction, and for other events.
+    pub tangential: Vec<f64>,
+    /// The friction states of the held contacts after the event (docs/friction.md).
+    pub grips: Grips,
     /// The state just before.
     pub before: State,
     /// The state just after.
@@ -280,15 +353,17 @@ pub struct Work {
     /// The work of the constraint forces and impulses on surfaces that move: `−∫ λᵢ Aᵢq̇ dt`
     /// while held, and `−Σ Λᵢ ∂ₜhᵢ` at impacts (0 where no surface moves).
     pub constraints: f64,
-    /// The energy taken out by impacts, `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻) ≥ 0`, and by the switches at Zeno
-    /// points (their measured change).
+    /// The energy taken out by impacts, `−½ Σ Λᵢ (ḣᵢ⁺ + ḣᵢ⁻) − ½ Σ Λₜ,ᵢ (sᵢ⁺ + sᵢ⁻) ≥ 0`, and by
+    /// the switches at Zeno points (their measured change).
     pub impact_loss: f64,
+    /// `∫ Σ fₜ,ᵢ sᵢ dt ≤ 0`: the work of friction at slipping contacts (docs/friction.md).
+    pub friction: f64,
 }
 
 impl Work {
-    /// `forces + drive + constraints − impact_loss`: what `E(t) − E(0)` should be.
+    /// `forces + drive + constraints + friction − impact_loss`: what `E(t) − E(0)` should be.
     pub fn balance(&self) -> f64 {
-        self.forces + self.drive + self.constraints - self.impact_loss
+        self.forces + self.drive + self.constraints + self.friction - self.impact_loss
     }
 }
 

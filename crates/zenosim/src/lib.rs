@@ -44,6 +44,7 @@ mod derived;
 mod error;
 pub mod events;
 mod execution;
+mod friction;
 pub mod integrator;
 pub mod lcp;
 mod mechanics;
@@ -62,11 +63,11 @@ pub use derivatives::MAX_DIMENSION;
 pub use derived::Derived;
 pub use error::{Error, Readable};
 pub use execution::{
-    ActiveSet, Event, EventKind, Execution, HybridInterval, Mode, Outcome, RunStats, State, Work,
-    ZenoKind, ZenoPoint,
+    ActiveSet, Event, EventKind, Execution, Grips, HybridInterval, Mode, Outcome, RunStats, State,
+    Work, ZenoKind, ZenoPoint,
 };
 pub use integrator::{Method, Tolerances};
-pub use model::{Constraint, HybridLagrangian, Scalar};
+pub use model::{Constraint, Friction, HybridLagrangian, Scalar};
 pub use observer::{Observer, Point, Sample, Trajectory};
 pub use options::{Completion, OutputGrid, SimulationOptions, ZenoStrategy};
 pub use simulation::{admissible_start, Simulation};

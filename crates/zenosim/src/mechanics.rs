@@ -45,6 +45,9 @@ pub(crate) enum DynamicsError {
         stop: crate::lcp::Stop,
         conditioning: crate::lcp::Conditioning,
     },
+    /// Painlevé's paradox: the frictional contact problem on a set has no solution or several.
+    #[error("Painlevé's paradox on {constraints:?}")]
+    Painleve { constraints: ActiveSet },
     /// Newton's method did not bring `h` to zero.
     #[error("the projection onto constraint {constraint} left |h| = {residual}")]
     Projection { constraint: usize, residual: f64 },
@@ -215,6 +218,8 @@ pub(crate) fn guard_scale(h: f64, gradient: &[f64], q: &[f64]) -> f64 {
 pub(crate) struct Mechanics<'a, L> {
     model: &'a L,
     n: usize,
+    /// The constraints with friction (docs/friction.md).
+    frictional: ActiveSet,
 }
 
 impl<L> Clone for Mechanics<'_, L> {
@@ -228,10 +233,23 @@ impl<L> Copy for Mechanics<'_, L> {}
 impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
     /// Mechanics of `model`, whose dimension has been checked to lie in `1..=MAX_DIMENSION`.
     pub fn new(model: &'a L) -> Self {
+        let frictional = model
+            .constraints()
+            .iter()
+            .enumerate()
+            .filter(|(i, c)| c.friction.is_some() && *i < ActiveSet::CAPACITY)
+            .fold(ActiveSet::empty(), |set, (i, _)| set.with(i));
         Self {
             model,
             n: model.dimension(),
+            frictional,
         }
+    }
+
+    /// Whether any constraint of `set` has friction.
+    #[inline]
+    pub fn frictional(&self, set: ActiveSet) -> bool {
+        !set.intersection(self.frictional).is_empty()
     }
 
     /// The model.

@@ -13,21 +13,55 @@ pub trait Scalar: DualNum<Primitive = f64> + Copy {}
 
 impl<T: DualNum<Primitive = f64> + Copy> Scalar for T {}
 
-/// One unilateral constraint `h(q) ≥ 0` of a model, with its coefficient of restitution.
+/// Coulomb friction at a constraint's contact (docs/friction.md): a sticking contact holds while
+/// its tangential force is within `μₛ` times its normal force; a slipping one is opposed by
+/// `μₖ` times it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Friction {
+    /// The static coefficient `μₛ ≥ μₖ`.
+    pub static_coefficient: f64,
+    /// The kinetic coefficient `μₖ ≥ 0`.
+    pub kinetic_coefficient: f64,
+}
+
+impl Friction {
+    /// Coulomb's law with one coefficient `μ`, static and kinetic alike.
+    pub fn coulomb(mu: f64) -> Self {
+        Self {
+            static_coefficient: mu,
+            kinetic_coefficient: mu,
+        }
+    }
+}
+
+/// One unilateral constraint `h(q) ≥ 0` of a model, with its coefficient of restitution and,
+/// where its contact has friction, its friction coefficients.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Constraint {
     /// A name, unique within the model (used in records and messages).
     pub name: String,
     /// The coefficient of restitution `e`, `0 ≤ e ≤ 1` (checked when a simulation is set up).
     pub restitution: f64,
+    /// Coulomb friction at the contact; its slip velocity is
+    /// [`HybridLagrangian::slip`]. `None`: frictionless.
+    pub friction: Option<Friction>,
 }
 
 impl Constraint {
-    /// A constraint with the given name and restitution.
+    /// A frictionless constraint with the given name and restitution.
     pub fn new(name: impl Into<String>, restitution: f64) -> Self {
         Self {
             name: name.into(),
             restitution,
+            friction: None,
+        }
+    }
+
+    /// The constraint with Coulomb friction `friction` at its contact.
+    pub fn with_friction(self, friction: Friction) -> Self {
+        Self {
+            friction: Some(friction),
+            ..self
         }
     }
 }
@@ -92,6 +126,15 @@ pub trait HybridLagrangian {
     /// `false` from [`Self::is_autonomous`].
     #[inline]
     fn dissipation<D: Scalar>(&self, _t: D, _q: &[D], _q_dot: &[D]) -> D {
+        D::zero()
+    }
+
+    /// The slip velocity `s(t, q, q̇)` of constraint `index`'s contact (docs/friction.md): the
+    /// relative tangential velocity of the contact points, affine in `q̇`
+    /// (`s = S(t, q) q̇ + s₀(t, q)`), one component for a contact in a plane. Only constraints
+    /// with [`Constraint::friction`] are asked. Default: 0 (no friction anywhere).
+    #[inline]
+    fn slip<D: Scalar>(&self, _index: usize, _t: D, _q: &[D], _q_dot: &[D]) -> D {
         D::zero()
     }
 

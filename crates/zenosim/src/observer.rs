@@ -1,7 +1,7 @@
 //! Watching a run: the trajectory is streamed to an [`Observer`] as it is computed, so memory
 //! stays flat however long the run; [`Trajectory`] keeps it in memory instead.
 
-use crate::execution::{Event, Mode, Work};
+use crate::execution::{Event, Grips, Mode, Work};
 
 /// One point of the trajectory, with what the mechanics says there.
 #[derive(Clone, Copy, Debug)]
@@ -18,6 +18,11 @@ pub struct Sample<'a> {
     pub h: &'a [f64],
     /// `λ_i` of every constraint (0 where inactive; the contact force is `−A_iᵀ λ_i`).
     pub lambda: &'a [f64],
+    /// The tangential force `fₜ,ᵢ` of every constraint (0 where inactive or frictionless; it
+    /// acts along `Sᵢᵀ`, positive along increasing slip: docs/friction.md).
+    pub friction: &'a [f64],
+    /// The friction states of the held contacts.
+    pub grips: Grips,
     /// The energy `q̇ᵀ ∂L/∂q̇ − L`.
     pub energy: f64,
     /// The energy balance from the start to `t` ([`Work`]).
@@ -71,6 +76,10 @@ pub struct Point {
     pub h: Vec<f64>,
     /// `λ_i` of every constraint.
     pub lambda: Vec<f64>,
+    /// The tangential force `fₜ,ᵢ` of every constraint.
+    pub friction: Vec<f64>,
+    /// The friction states of the held contacts.
+    pub grips: Grips,
     /// The energy.
     pub energy: f64,
     /// The energy balance from the start ([`Work`]).
@@ -103,6 +112,7 @@ impl Trajectory {
                     + w.forces.abs()
                     + w.drive.abs()
                     + w.constraints.abs()
+                    + w.friction.abs()
                     + w.impact_loss.abs();
                 let residual = (p.energy - e0 - w.balance()).abs();
                 if residual == 0.0 {
@@ -125,6 +135,8 @@ impl Point {
             q_dot: s.q_dot.to_vec(),
             h: s.h.to_vec(),
             lambda: s.lambda.to_vec(),
+            friction: s.friction.to_vec(),
+            grips: s.grips,
             energy: s.energy,
             work: s.work,
         }
@@ -133,11 +145,13 @@ impl Point {
     /// Becomes the sample `s`, reusing its vectors.
     pub fn set(&mut self, s: &Sample<'_>) {
         (self.t, self.mode, self.energy, self.work) = (s.t, s.mode, s.energy, s.work);
+        self.grips = s.grips;
         for (mine, theirs) in [
             (&mut self.q, s.q),
             (&mut self.q_dot, s.q_dot),
             (&mut self.h, s.h),
             (&mut self.lambda, s.lambda),
+            (&mut self.friction, s.friction),
         ] {
             mine.clear();
             mine.extend_from_slice(theirs);
@@ -153,6 +167,8 @@ impl Point {
             q_dot: &self.q_dot,
             h: &self.h,
             lambda: &self.lambda,
+            friction: &self.friction,
+            grips: self.grips,
             energy: self.energy,
             work: self.work,
         }

@@ -66,6 +66,16 @@ impl<'a, L: HybridLagrangian> Simulation<'a, L> {
                     value: c.restitution,
                 });
             }
+            if let Some(f) = c.friction {
+                let (mu_s, mu_k) = (f.static_coefficient, f.kinetic_coefficient);
+                if !(mu_s.is_finite() && mu_k.is_finite() && 0.0 <= mu_k && mu_k <= mu_s) {
+                    return Err(Error::Friction {
+                        constraint: c.name.clone(),
+                        static_coefficient: mu_s,
+                        kinetic_coefficient: mu_k,
+                    });
+                }
+            }
             let (h, gradient) = derived.constraint(index, q0);
             if !admissible_start(h, &gradient, q0) {
                 return Err(Error::Inadmissible {

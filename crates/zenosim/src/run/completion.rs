@@ -8,8 +8,10 @@ use super::{Next, Runner, AUTO_ROUND_OFF_ULPS, OFF_ROUND_OFF_ULPS};
 use crate::contact::{self};
 use crate::derivatives::guard_along;
 use crate::error::Error;
-use crate::execution::{ActiveSet, Mode, Outcome, ZenoKind, ZenoPoint};
+use crate::execution::{ActiveSet, Grips, Mode, Outcome, ZenoKind, ZenoPoint};
+use crate::friction;
 use crate::mechanics::guard_scale;
+use crate::mechanics::DynamicsError;
 use crate::model::HybridLagrangian;
 use crate::observer::Observer;
 use crate::options::{Completion, ZenoStrategy};
@@ -256,29 +258,75 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             }
             self.sim.model.completion_map_at(only, t, q, q_dot);
         }
-        contact::project_onto(&self.mech, set, t, n, &mut after)
+        if self.mech.frictional(set) {
+            // The tangential impulses of the impacts not taken (docs/friction.md, Zeno points).
+            self.remaining_friction(index, set, t, &mut after, prediction)
+                .map_err(|err| self.fail_dynamics(err, t, &before))?;
+        }
+        contact::project_onto(&self.mech, set, Grips::none(), t, n, &mut after)
             .map_err(|err| self.fail_dynamics(err, t, &before))?;
+        // Law 1 there: the friction states, and a constraint that cannot hold the motion
+        // (λ > 0) lets go at once.
+        let (held, grips) = self.decide(set, t, &after)?;
+        if !grips.stick.is_empty() {
+            contact::project_onto(&self.mech, set, grips, t, n, &mut after)
+                .map_err(|err| self.fail_dynamics(err, t, &before))?;
+        }
+        if let Some(p) = prediction.filter(|_| self.mech.frictional(held)) {
+            contact::unwind_slip(&self.mech, held, grips, t, n, &mut after, p.remaining)
+                .map_err(|err| self.fail_dynamics(err, t, &before))?;
+        }
         let point = self.zeno_point(index, set, t, &after, prediction);
-        self.apply(
-            Transition::Zeno(point),
-            t,
-            &before,
-            &after,
-            Mode::Constrained(set),
-        )?;
+        let mode = Mode::Constrained(set);
+        self.apply(Transition::Zeno(point), t, &before, &after, mode, grips)?;
         self.restart(t, &after, None)?;
-        // Law 1 there: a constraint that cannot hold the motion (λ > 0) lets go at once.
-        let held = self.held_of(set, t, &after)?;
         if held != set {
             let gone = set.minus(held);
             let named = gone.iter().next().unwrap_or(index);
             let transition = Transition::Liftoff { named, gone };
-            self.apply(transition, t, &after, &after, holding(held))?;
+            self.apply(transition, t, &after, &after, holding(held), grips)?;
             self.resume(t, &after, None)?;
             return Ok(Next::Continue);
         }
         self.enter_mode(t)?;
         Ok(Next::Continue)
+    }
+
+    /// At the switch onto `set` after an impact reaching `index` (its accumulation predicted by
+    /// `prediction`), the tangential impulses of the impacts not taken, at once: the plastic
+    /// impact with friction on `y`'s velocities, each contact of the set approaching at the
+    /// normal velocity whose plastic impulse is the sum of the rest of its sequence's
+    /// (`(1 + e)/(1 − e)` times the velocity it left with, for `e < 1`; as it is where it is
+    /// already approaching), so that friction takes out the slip those impacts would.
+    fn remaining_friction(
+        &mut self,
+        index: usize,
+        set: ActiveSet,
+        t: f64,
+        y: &mut [f64],
+        prediction: Option<Prediction>,
+    ) -> Result<(), DynamicsError> {
+        let n = self.n;
+        let (q, q_dot) = y.split_at_mut(n);
+        let frame = friction::Frame::at(&self.mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+        let constraints = self.sim.model.constraints();
+        let approach: Vec<f64> = frame
+            .indices
+            .iter()
+            .zip(&frame.normals)
+            .map(|(&i, normal)| {
+                let e = constraints[i].restitution;
+                let leaving = normal.a_q_dot.max(0.0);
+                if i == index && prediction.is_some() && e < 1.0 {
+                    -(1.0 + e) / (1.0 - e) * leaving
+                } else {
+                    normal.a_q_dot.min(0.0)
+                }
+            })
+            .collect();
+        let zero = vec![0.0; frame.len()];
+        let h_t: Vec<f64> = frame.normals.iter().map(|normal| normal.h_t).collect();
+        frame.plastic(set, &approach, &h_t, q_dot, &zero)
     }
 
     /// The constraints of `set` within `ε` of their surfaces at `y` (`|h| ≤ ε`).
@@ -384,18 +432,14 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let held = held.minus(ActiveSet::single(index));
         if held.is_empty() {
             return Ok(NextFlight {
-                prediction: Prediction::new(
-                    normal.a_q_dot,
-                    normal.h_ddot_free,
-                    e,
-                    round_off,
-                ),
+                prediction: Prediction::new(normal.a_q_dot, normal.h_ddot_free, e, round_off),
                 h_dot: normal.a_q_dot,
                 h_ddot: normal.h_ddot_free,
             });
         }
         let mut acc = vec![0.0; self.n];
-        contact::acceleration(&self.mech, held, t, q, q_dot, &mut acc)
+        let grips = self.grips.within(held);
+        contact::acceleration(&self.mech, held, grips, t, q, q_dot, &mut acc)
             .map_err(|err| self.fail_dynamics(err, t, y))?;
         // ḧ = A q̈ + Ȧ q̇, with Ȧ q̇ = ḧ_free − A M⁻¹ f.
         let mut free = vec![0.0; self.n];
@@ -419,7 +463,14 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
 
     /// Whether the motion of every constraint of `set` over the next flight, `|ḣ| Δ`, is within
     /// `ulps` of the rounding error of its `h`: no further impact on them can be resolved.
-    fn below_round_off(&mut self, set: ActiveSet, t: f64, y: &[f64], flight: f64, ulps: f64) -> bool {
+    fn below_round_off(
+        &mut self,
+        set: ActiveSet,
+        t: f64,
+        y: &[f64],
+        flight: f64,
+        ulps: f64,
+    ) -> bool {
         let (q, q_dot) = y.split_at(self.n);
         set.iter().all(|index| {
             let surface = self.surface(index, t, q, q_dot);

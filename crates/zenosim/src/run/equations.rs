@@ -1,7 +1,7 @@
 //! The equations of motion of one mode, as the integrator sees them.
 
 use crate::contact::{self};
-use crate::execution::ActiveSet;
+use crate::execution::{ActiveSet, Grips};
 use crate::integrator::OdeSystem;
 use crate::mechanics::{DynamicsError, Mechanics, Normal};
 use crate::model::HybridLagrangian;
@@ -15,8 +15,10 @@ pub(super) struct Equations<'a, L> {
     /// Free (`None`) or held on one constraint: the mechanics' own right-hand side, inlined
     /// into the stages. Held on two or more, `contact::held_acceleration` (`None` too).
     single: Option<usize>,
-    /// Whether the motion is held on two or more constraints.
+    /// Whether the motion is held on two or more constraints, or on any with friction.
     several: bool,
+    /// The friction states of the held contacts.
+    grips: Grips,
     pub(super) n: usize,
     /// The held constraint's normal response at the end of the last trial step, and its
     /// time, where one constraint is held: after an accepted step, at the step's end
@@ -25,24 +27,26 @@ pub(super) struct Equations<'a, L> {
 }
 
 impl<'a, L: HybridLagrangian> Equations<'a, L> {
-    pub(super) fn new(mech: Mechanics<'a, L>, held: ActiveSet, n: usize) -> Self {
+    pub(super) fn new(mech: Mechanics<'a, L>, held: ActiveSet, grips: Grips, n: usize) -> Self {
+        let frictional = mech.frictional(held);
         Self {
             mech,
             held,
-            single: held.only(),
-            several: held.len() >= 2,
+            single: held.only().filter(|_| !frictional),
+            several: held.len() >= 2 || frictional,
+            grips,
             n,
             end: None,
         }
     }
 
-    /// The right-hand side held on two or more constraints.
+    /// The right-hand side held on two or more constraints, or on any with friction.
     #[inline(never)]
     fn rhs_on_set(&self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), DynamicsError> {
         let (q, q_dot) = y.split_at(self.n);
         dy[..self.n].copy_from_slice(q_dot);
-        contact::held_acceleration(&self.mech, self.held, t, q, q_dot, &mut dy[self.n..])
-            .map(|_| ())
+        let q_ddot = &mut dy[self.n..];
+        contact::acceleration(&self.mech, self.held, self.grips, t, q, q_dot, q_ddot)
     }
 }
 
@@ -90,6 +94,6 @@ impl<L: HybridLagrangian> OdeSystem for Equations<'_, L> {
         if self.held.is_empty() {
             return Ok(false);
         }
-        contact::project_onto(&self.mech, self.held, t, self.n, y).map(|()| true)
+        contact::project_onto(&self.mech, self.held, self.grips, t, self.n, y).map(|()| true)
     }
 }

@@ -55,6 +55,10 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 t,
                 constraints: constraints.iter().map(name).collect(),
             },
+            DynamicsError::Painleve { constraints } => Error::Painleve {
+                t,
+                constraints: constraints.iter().map(name).collect(),
+            },
             DynamicsError::ContactSolver {
                 constraints,
                 stop,
@@ -88,7 +92,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         // Best effort: the run is failing already; what can be sent is sent.
         let _ = self.emit_grid_before(t);
         let _ = self.advance_work(t);
-        let _ = self.emit(t, y, self.mode);
+        let _ = self.emit(t, y, self.mode, self.grips);
         self.commit_time(t, y);
         error
     }

@@ -98,14 +98,15 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 }
             }
         }
-        let held = self.held_of(resting, t, &y)?;
+        let (held, grips) = self.decide(resting, t, &y)?;
         if held.is_empty() {
             return Ok(());
         }
         let start = y.clone();
-        project_onto(&self.mech, held, t, n, &mut y)
+        project_onto(&self.mech, held, grips, t, n, &mut y)
             .map_err(|err| self.fail_dynamics(err, t, &start))?;
         self.mode = holding(held);
+        self.grips = grips;
         self.y.copy_from_slice(&y);
         self.resume(t, &y, None)
     }
@@ -130,7 +131,10 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             // Moving away at the root (or at rest and accelerating away): a round-off crossing,
             // not an impact (REFERENCE §4).
             self.record.spurious += 1;
-            if self.watch.no_progress(t_event, self.time_resolution(t_event)) {
+            if self
+                .watch
+                .no_progress(t_event, self.time_resolution(t_event))
+            {
                 return self.stuck_at(index, t_event, &before);
             }
             // Pulled back, it lands after the flight 2 A q̇/|ḧ|: bound the next step by it, as
@@ -331,7 +335,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let cubic = self.cubic;
         let mut found: Option<(usize, f64)> = None;
         for index in (0..m).filter(|&i| !held.contains(i)) {
-            let (stepper, mech, n) = (&self.stepper, self.mech, self.n);
+            let (stepper, mech, n, grips) = (&self.stepper, self.mech, self.n, self.grips);
             let mut y = std::mem::take(&mut self.scratch);
             // A close approach without a crossing may be a constraint that touches 0 without
             // changing sign ([`Runner::touched`]).
@@ -344,7 +348,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 |t| {
                     interpolate(stepper, cubic, t, &mut y);
                     // Best effort: a failed projection just leaves the sample as it is.
-                    let _ = project_onto(&mech, held, t, n, &mut y);
+                    let _ = project_onto(&mech, held, grips, t, n, &mut y);
                     let (h, h_dot, _) = guard_along(mech.model(), index, t, &y[..n], &y[n..]);
                     (h, Some(h_dot))
                 },
@@ -375,7 +379,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let mut y = vec![0.0; 2 * n];
         interpolate(&self.stepper, self.cubic, t, &mut y);
         // Best effort, as for the samples of the guard.
-        let _ = project_onto(&self.mech, held, t, n, &mut y);
+        let _ = project_onto(&self.mech, held, self.grips, t, n, &mut y);
         let (q, q_dot) = y.split_at(n);
         let surface = self.surface(index, t, q, q_dot);
         let q_tol = surface.position_tolerance(self.sim.options.tolerances);
@@ -416,7 +420,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let before = self.state_at(t)?;
         let (t, mut before) = self.admissible_side(other, t, before)?;
         // Best effort: the interpolated state is within the tolerance of the held constraints.
-        let _ = project_onto(&self.mech, self.held(), t, self.n, &mut before);
+        let _ = project_onto(&self.mech, self.held(), self.grips, t, self.n, &mut before);
         self.crossing(other, t, before, hint, found)
     }
 }

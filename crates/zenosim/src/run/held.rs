@@ -6,7 +6,7 @@ use super::{interpolate, Next, Runner};
 use crate::contact::{self};
 use crate::error::Error;
 use crate::events::first_crossing;
-use crate::execution::ActiveSet;
+use crate::execution::{ActiveSet, EventKind, Grips};
 use crate::mechanics::Normal;
 use crate::model::HybridLagrangian;
 use crate::observer::Observer;
@@ -45,14 +45,16 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         } else {
             self.dense()?;
             let (stepper, mech, cubic) = (&self.stepper, self.mech, self.cubic);
+            let (grips, scales) = (self.grips, &self.scales);
             let mut y = std::mem::take(&mut self.scratch);
             let mut w = std::mem::take(&mut self.w);
             let mut acc = vec![0.0; n];
             let crossing = first_crossing(t0, t1, |t| {
                 interpolate(stepper, cubic, t, &mut y);
                 let (q, q_dot) = y.split_at(n);
-                let margin = contact::margin(&mech, held, t, q, q_dot, &mut w, &mut acc)
-                    .unwrap_or(f64::NAN);
+                let margin =
+                    contact::margin(&mech, held, grips, scales, t, q, q_dot, &mut w, &mut acc)
+                        .unwrap_or(f64::NAN);
                 (lift_guard(margin), None)
             });
             self.scratch = y;
@@ -65,9 +67,9 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             self.emit_grid_before(t)?;
             let mut state = self.state_at(t)?;
             let copy = state.clone();
-            contact::project_onto(&self.mech, held, t, n, &mut state)
+            contact::project_onto(&self.mech, held, self.grips, t, n, &mut state)
                 .map_err(|err| self.fail_dynamics(err, t, &copy))?;
-            return self.liftoff(held, t, state);
+            return self.transition(held, t, state);
         }
         // (The step's end is on h = 0, ḣ = 0 already: `Equations::correct_end`.)
         self.flight_bound = next_bound.flatten().unwrap_or(f64::INFINITY);
@@ -125,36 +127,101 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         Ok(Some(Some(bound)))
     }
 
-    /// Some constraints of `held` let go at `t`: law 1 on the set decides which still hold (at
-    /// least the one whose margin is largest goes).
-    pub(super) fn liftoff(&mut self, held: ActiveSet, t: f64, state: Vec<f64>) -> Result<Next, Error> {
-        let mut still = self.held_of(held, t, &state)?;
-        if still == held {
-            // At the root itself law 1 may still see the force at 0: the largest margin goes.
-            let (q, q_dot) = state.split_at(self.n);
-            let margins = contact::margins(&self.mech, held, t, q, q_dot)
-                .map_err(|err| self.fail_dynamics(err, t, &state))?;
-            let worst = margins
-                .iter()
-                .max_by(|a, b| a.1.total_cmp(&b.1))
-                .map_or(0, |&(index, _)| index);
-            still = held.minus(ActiveSet::single(worst));
+    /// A held force or friction state reached its limit at `t`: law 1 on the set decides anew
+    /// which constraints hold and, with friction, which stick or slip (docs/friction.md). At
+    /// the root itself it may still see the old states (the margin at 0): then the contact
+    /// whose margin is largest changes (it lets go, starts to slip, or sticks).
+    pub(super) fn transition(
+        &mut self,
+        held: ActiveSet,
+        t: f64,
+        mut state: Vec<f64>,
+    ) -> Result<Next, Error> {
+        // A slip that reached 0 is set to 0 (the root leaves it a rounding past), so that law 1
+        // sees the contact at rest and decides with the static cone.
+        let copy = state.clone();
+        contact::stop_reached_slips(&self.mech, held, self.grips, t, self.n, &mut state)
+            .map_err(|err| self.fail_dynamics(err, t, &copy))?;
+        let (mut still, mut grips) = self.decide(held, t, &state)?;
+        if still == held && grips == self.grips {
+            (still, grips) = self.forced_change(held, t, &state)?;
         }
         let gone = held.minus(still);
-        let named = gone.iter().next().unwrap_or(0);
-        let transition = Transition::Liftoff { named, gone };
-        self.apply(transition, t, &state, &state, holding(still))?;
+        if !gone.is_empty() {
+            let named = gone.iter().next().unwrap_or(0);
+            let transition = Transition::Liftoff { named, gone };
+            self.apply(transition, t, &state, &state, holding(still), grips)?;
+        } else {
+            // Only friction states changed: a stick event where contacts stopped slipping and
+            // none started, a slip event otherwise.
+            let old = self.grips;
+            let started = grips.slipping().minus(old.slipping());
+            let reversed = grips
+                .forward
+                .intersection(old.backward)
+                .union(grips.backward.intersection(old.forward));
+            let stuck = grips.stick.minus(old.stick);
+            let (kind, changed) = if started.union(reversed).is_empty() {
+                (EventKind::Stick, stuck)
+            } else {
+                (EventKind::Slip, started.union(reversed).union(stuck))
+            };
+            if !grips.stick.is_empty() {
+                let copy = state.clone();
+                contact::project_onto(&self.mech, held, grips, t, self.n, &mut state)
+                    .map_err(|err| self.fail_dynamics(err, t, &copy))?;
+            }
+            let named = changed.iter().next().unwrap_or(0);
+            let transition = Transition::Grip {
+                kind,
+                named,
+                changed,
+            };
+            self.apply(transition, t, &state, &state, holding(still), grips)?;
+        }
         self.resume(t, &state, None)?;
         Ok(Next::Continue)
     }
 
-    /// After a restart in the current mode: the lift-off test's margin at the mode's start.
+    /// The change at a root where law 1 still sees the old states: the constraint with the
+    /// largest margin lets go (without friction, or where that is a normal force), or the
+    /// contact whose friction state reached its limit changes it.
+    fn forced_change(
+        &mut self,
+        held: ActiveSet,
+        t: f64,
+        state: &[f64],
+    ) -> Result<(ActiveSet, Grips), Error> {
+        let (q, q_dot) = state.split_at(self.n);
+        if self.mech.frictional(held) {
+            let grips = self.grips;
+            let worst = contact::worst_change(&self.mech, held, grips, &self.scales, t, q, q_dot)
+                .map_err(|err| self.fail_dynamics(err, t, state))?;
+            return Ok(worst);
+        }
+        let margins = contact::margins(&self.mech, held, t, q, q_dot)
+            .map_err(|err| self.fail_dynamics(err, t, state))?;
+        let worst = margins
+            .iter()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or(0, |&(index, _)| index);
+        Ok((held.minus(ActiveSet::single(worst)), Grips::none()))
+    }
+
+    /// After a restart in the current mode: the lift-off test's margin at the mode's start
+    /// (with friction, and the scales of its margins, fixed through the mode).
     pub(super) fn enter_mode(&mut self, t: f64) -> Result<(), Error> {
         let held = self.held();
         if held.is_empty() {
             return Ok(());
         }
         let y = self.y.clone();
+        if self.mech.frictional(held) {
+            let (q, q_dot) = y.split_at(self.n);
+            let scales = contact::scales(&self.mech, held, self.grips, t, q, q_dot)
+                .map_err(|err| self.fail_dynamics(err, t, &y))?;
+            self.scales = scales;
+        }
         self.margin_start = self.margin_of(held, t, &y)?;
         Ok(())
     }
@@ -165,7 +232,10 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let (q, q_dot) = y.split_at(self.n);
         let mut w = std::mem::take(&mut self.w);
         let mut acc = vec![0.0; self.n];
-        let margin = contact::margin(&self.mech, set, t, q, q_dot, &mut w, &mut acc);
+        let (grips, scales) = (self.grips.within(set), &self.scales);
+        let margin = contact::margin(
+            &self.mech, set, grips, scales, t, q, q_dot, &mut w, &mut acc,
+        );
         self.w = w;
         margin.map_err(|err| self.fail_dynamics(err, t, y))
     }

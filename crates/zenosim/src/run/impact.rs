@@ -6,7 +6,7 @@ use super::mode::{holding, Transition};
 use super::{Next, Runner};
 use crate::contact::{self};
 use crate::error::Error;
-use crate::execution::ActiveSet;
+use crate::execution::{ActiveSet, Grips};
 use crate::mechanics::Normal;
 use crate::model::HybridLagrangian;
 use crate::observer::Observer;
@@ -72,13 +72,14 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         } else {
             contacts.minus(ActiveSet::single(index))
         };
-        let held = self.settle(settled, t, &mut after)?;
+        let (held, grips) = self.settle(settled, t, &mut after)?;
         let transition = Transition::Impact {
             reached: index,
             contacts,
             impulses: law.impulses,
+            tangential: law.tangential,
         };
-        self.apply(transition, t, &before, &after, holding(held))?;
+        self.apply(transition, t, &before, &after, holding(held), grips)?;
         let alone = self.watch.accumulation.constraints() == ActiveSet::single(index);
         if held.contains(index) && alone {
             // Closed by the impact: nothing bounces, nothing accumulates.
@@ -89,13 +90,14 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     }
 
     /// The constraints of `closed` that the impact left at rest (`|ḣ|` within its rounding)
-    /// and that law 1 holds at `(t, y)`; `y` is put onto them.
+    /// and that law 1 holds at `(t, y)`, with the friction states of those with friction; `y`
+    /// is put onto them.
     pub(super) fn settle(
         &mut self,
         closed: ActiveSet,
         t: f64,
         y: &mut [f64],
-    ) -> Result<ActiveSet, Error> {
+    ) -> Result<(ActiveSet, Grips), Error> {
         let (q, q_dot) = y.split_at(self.n);
         let mut at_rest = ActiveSet::empty();
         for index in closed.iter() {
@@ -104,27 +106,28 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 at_rest = at_rest.with(index);
             }
         }
-        let held = self.held_of(at_rest, t, y)?;
+        let (held, grips) = self.decide(at_rest, t, y)?;
         if held.is_empty() {
-            return Ok(held);
+            return Ok((held, grips));
         }
         let state = y.to_vec();
-        contact::project_onto(&self.mech, held, t, self.n, y)
+        contact::project_onto(&self.mech, held, grips, t, self.n, y)
             .map_err(|err| self.fail_dynamics(err, t, &state))?;
-        Ok(held)
+        Ok((held, grips))
     }
 
-    /// The constraints of `closed` that hold at `(t, y)` (docs/contact-laws.md, law 1).
-    pub(super) fn held_of(
+    /// The constraints of `closed` that hold at `(t, y)`, and the friction states of those
+    /// with friction (docs/contact-laws.md, law 1; docs/friction.md).
+    pub(super) fn decide(
         &mut self,
         closed: ActiveSet,
         t: f64,
         y: &[f64],
-    ) -> Result<ActiveSet, Error> {
+    ) -> Result<(ActiveSet, Grips), Error> {
         let (q, q_dot) = y.split_at(self.n);
         let mut w = std::mem::take(&mut self.w);
-        let held = contact::held_of(&self.mech, closed, t, q, q_dot, &mut w);
+        let decided = contact::decide(&self.mech, closed, t, q, q_dot, &mut w);
         self.w = w;
-        held.map_err(|(err, _)| self.fail_dynamics(err, t, y))
+        decided.map_err(|(err, _)| self.fail_dynamics(err, t, y))
     }
 }

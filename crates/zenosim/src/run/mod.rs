@@ -35,7 +35,7 @@ mod watch;
 mod work;
 
 use crate::error::Error;
-use crate::execution::{ActiveSet, Execution, HybridInterval, Mode, Outcome, RunStats};
+use crate::execution::{ActiveSet, Execution, Grips, HybridInterval, Mode, Outcome, RunStats};
 use crate::integrator::{StepError, Stepper};
 use crate::mechanics::{DynamicsError, Mechanics};
 use crate::model::HybridLagrangian;
@@ -89,6 +89,11 @@ pub(crate) struct Runner<'s, 'a, L, O> {
     /// The lift margin of the held constraints ([`crate::contact::margin`]) at the start of the
     /// current step.
     margin_start: f64,
+    /// The friction states of the held contacts (docs/friction.md).
+    grips: Grips,
+    /// With friction, the scales of the held contacts' margins, fixed when the mode starts
+    /// ([`crate::friction::Frame::scales`]).
+    scales: Vec<f64>,
     /// Whether free flight is a parabola ([`HybridLagrangian::parabolic_flight`]).
     parabolic: bool,
     /// Whether the last step is a free flight on a parabola (declared, and the acceleration the
@@ -129,6 +134,8 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             time_scale: f64::MIN_POSITIVE,
             flight_bound: f64::INFINITY,
             margin_start: 0.0,
+            grips: Grips::none(),
+            scales: Vec::new(),
             parabolic: sim.model.parabolic_flight(),
             cubic: false,
             record: Recorder::new(observer, n, m),
@@ -186,7 +193,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
                 // The state where it stops ends the trajectory (on a uniform output grid too).
                 let (t, y) = (self.t, self.y.clone());
                 self.advance_work(t)?;
-                self.emit(t, &y, self.mode)?;
+                self.emit(t, &y, self.mode, self.grips)?;
                 return Ok(Outcome::Interrupted);
             }
             self.check_step_limit()?;
@@ -215,7 +222,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
     }
 
     fn equations(&self) -> Equations<'a, L> {
-        Equations::new(self.mech, self.held(), self.n)
+        Equations::new(self.mech, self.held(), self.grips, self.n)
     }
 
     /// The constraints held in the current mode.

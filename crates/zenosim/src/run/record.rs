@@ -5,10 +5,31 @@ use super::{interpolate, Runner};
 use crate::contact::{self};
 use crate::derivatives::energy;
 use crate::error::Error;
-use crate::execution::{ActiveSet, Event, EventKind, HybridInterval, Mode, State, Work, ZenoPoint};
+use crate::execution::{
+    ActiveSet, Event, EventKind, Grips, HybridInterval, Mode, State, Work, ZenoPoint,
+};
 use crate::model::HybridLagrangian;
 use crate::observer::{Observer, Sample};
 use crate::options::OutputGrid;
+
+/// What an event changed: the constraints involved and, for an impact, their normal and
+/// tangential impulses (the latter empty without friction).
+pub(super) struct Change {
+    pub contacts: ActiveSet,
+    pub impulses: Vec<f64>,
+    pub tangential: Vec<f64>,
+}
+
+impl Change {
+    /// A change of the constraints `contacts` without impulses.
+    pub fn of(contacts: ActiveSet) -> Self {
+        Self {
+            contacts,
+            impulses: Vec::new(),
+            tangential: Vec::new(),
+        }
+    }
+}
 
 /// What a run records, and where it sends it: the hybrid time domain, the events, the Zeno
 /// points and the counts the execution reports; the samples sent to the observer; the energy
@@ -32,6 +53,7 @@ pub(super) struct Recorder<'s, O> {
     pub last_sample: (f64, Mode, Vec<f64>),
     pub h_buf: Vec<f64>,
     pub lambda_buf: Vec<f64>,
+    pub friction_buf: Vec<f64>,
     /// The energy balance up to `work_t` (`work.rs`), which may run ahead of `t` inside a
     /// step, and the balance at `t` itself: the record's.
     pub work: Work,
@@ -58,6 +80,7 @@ impl<'s, O: Observer> Recorder<'s, O> {
             last_sample: (f64::NAN, Mode::Free, vec![f64::NAN; 2 * n]),
             h_buf: vec![0.0; m],
             lambda_buf: vec![0.0; m],
+            friction_buf: vec![0.0; m],
             work: Work::default(),
             work_t: 0.0,
             work_at_t: Work::default(),
@@ -67,19 +90,21 @@ impl<'s, O: Observer> Recorder<'s, O> {
 }
 
 impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
-    /// Records an event at `t` from `before` (in the current mode) to `after` (in `new_mode`),
-    /// with its samples, and closes the current interval of the hybrid time domain.
-    /// `change` is the constraints involved and, for an impact, their impulses.
+    /// Records an event at `t` from `before` (in the current mode) to `after` (in `new_mode`,
+    /// its held contacts in the friction states `grips`), with its samples, and closes the
+    /// current interval of the hybrid time domain. `change` is the constraints involved and,
+    /// for an impact, their impulses.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn record_event(
         &mut self,
         kind: EventKind,
         constraint: usize,
-        change: (ActiveSet, Vec<f64>),
+        change: Change,
         t: f64,
         before: &[f64],
         after: &[f64],
         new_mode: Mode,
+        grips: Grips,
     ) -> Result<(), Error> {
         let limit = self.sim.options.max_events;
         if self.record.events.len() as u64 >= limit {
@@ -97,8 +122,12 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             return Err(self.fail_at(t, before, error));
         }
         self.advance_work(t)?;
-        self.emit(t, before, self.mode)?;
-        let (contacts, impulses) = change;
+        self.emit(t, before, self.mode, self.grips)?;
+        let Change {
+            contacts,
+            impulses,
+            tangential,
+        } = change;
         self.record_jump(kind, contacts, t, before, after)?;
         let event = Event {
             kind,
@@ -106,6 +135,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             constraint,
             contacts,
             impulses,
+            tangential,
+            grips,
             before: split(before, self.n),
             after: split(after, self.n),
         };
@@ -118,7 +149,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         });
         self.record.interval_start = t;
         self.mode = new_mode;
-        self.emit(t, after, new_mode)?;
+        self.grips = grips;
+        self.emit(t, after, new_mode, grips)?;
         Ok(())
     }
 
@@ -130,7 +162,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             // (An observer that takes no samples costs no copy of the state.)
             OutputGrid::Steps if self.record.wants_samples => {
                 let y = self.stepper.y().to_vec();
-                self.emit(t1, &y, self.mode)?;
+                self.emit(t1, &y, self.mode, self.grips)?;
             }
             OutputGrid::Steps => {}
             OutputGrid::Uniform(_) => self.emit_grid_through(t1)?,
@@ -153,7 +185,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     pub(super) fn emit_grid_through(&mut self, t: f64) -> Result<(), Error> {
         if t == 0.0 {
             let y0 = self.y.clone();
-            self.emit(0.0, &y0, self.mode)?;
+            self.emit(0.0, &y0, self.mode, self.grips)?;
             if let OutputGrid::Uniform(dt) = self.sim.options.output {
                 self.record.next_output = dt;
             }
@@ -185,17 +217,24 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             }
             let to = self.record.next_output;
             interpolate(&self.stepper, self.cubic, to, &mut y);
-            contact::project_onto(&self.mech, self.held(), to, self.n, &mut y)
+            contact::project_onto(&self.mech, self.held(), self.grips, to, self.n, &mut y)
                 .map_err(|err| self.dynamics_error(err, to, &self.y.clone()))?;
-            self.emit(to, &y, self.mode)?;
+            self.emit(to, &y, self.mode, self.grips)?;
             let k = (to / dt).round() + 1.0;
             self.record.next_output = k * dt;
         }
         Ok(())
     }
 
-    /// Sends one sample to the observer.
-    pub(super) fn emit(&mut self, t: f64, y: &[f64], mode: Mode) -> Result<(), Error> {
+    /// Sends one sample to the observer: `(t, y)` in `mode`, its held contacts in the friction
+    /// states `grips`.
+    pub(super) fn emit(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        mode: Mode,
+        grips: Grips,
+    ) -> Result<(), Error> {
         if !self.record.wants_samples {
             return Ok(());
         }
@@ -211,12 +250,23 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             *h = model.constraint_at(i, t, q);
         }
         self.record.lambda_buf.iter_mut().for_each(|l| *l = 0.0);
+        self.record.friction_buf.iter_mut().for_each(|f| *f = 0.0);
         if let Mode::Constrained(held) = mode {
             let mut w = std::mem::take(&mut self.w);
-            let lambda = &mut self.record.lambda_buf;
-            let found = contact::multipliers(&self.mech, held, t, q, q_dot, &mut w, |i, l, _| {
-                lambda[i] = l;
-            });
+            let (lambda, friction) = (&mut self.record.lambda_buf, &mut self.record.friction_buf);
+            let found = contact::multipliers(
+                &self.mech,
+                held,
+                grips,
+                t,
+                q,
+                q_dot,
+                &mut w,
+                |i, l, _, f, _| {
+                    lambda[i] = l;
+                    friction[i] = f;
+                },
+            );
             self.w = w;
             found.map_err(|err| self.dynamics_error(err, t, y))?;
         }
@@ -228,6 +278,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             q_dot,
             h: &self.record.h_buf,
             lambda: &self.record.lambda_buf,
+            friction: &self.record.friction_buf,
+            grips,
             energy: energy(model, t, q, q_dot),
             work,
         };

@@ -45,29 +45,37 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     /// `work_t`, not committing it): for a sample.
     pub(super) fn work_at(&mut self, t: f64) -> Result<Work, Error> {
         let mut work = self.record.work;
-        if self.sim.model.is_autonomous() || t == self.record.work_t {
+        if !self.powered() || t == self.record.work_t {
             return Ok(work);
         }
-        let [forces, drive, constraints] = self.integrate_power(self.record.work_t, t)?;
+        let [forces, drive, constraints, friction] = self.integrate_power(self.record.work_t, t)?;
         work.forces += forces;
         work.drive += drive;
         work.constraints += constraints;
+        work.friction += friction;
         Ok(work)
     }
 
     /// Commits the energy balance up to `t` (inside the last step, or at its start).
     #[inline]
     pub(super) fn advance_work(&mut self, t: f64) -> Result<(), Error> {
-        if !self.sim.model.is_autonomous() {
+        if self.powered() {
             self.record.work = self.work_at(t)?;
         }
         self.record.work_t = t;
         Ok(())
     }
 
-    /// `∫ (Q·q̇, −∂ₜL, −Σλᵢ Aᵢq̇) dt` from `t0` to `t1` on the last step's dense output, in the
+    /// Whether anything does work along the motion: forces or time in the model, or friction
+    /// at a slipping contact.
+    #[inline]
+    fn powered(&self) -> bool {
+        !self.sim.model.is_autonomous() || !self.grips.slipping().is_empty()
+    }
+
+    /// `∫ (Q·q̇, −∂ₜL, −Σλᵢ Aᵢq̇, Σ fₜ,ᵢ sᵢ) dt` from `t0` to `t1` on the last step's dense output, in the
     /// current mode; zero where the last step does not cover both (a restart at the same time).
-    fn integrate_power(&mut self, t0: f64, t1: f64) -> Result<[f64; 3], Error> {
+    fn integrate_power(&mut self, t0: f64, t1: f64) -> Result<[f64; 4], Error> {
         let (start, end) = (self.stepper.t_previous(), self.stepper.t());
         let covered = start < end && start <= t0.min(t1) && t0.max(t1) <= end;
         if !covered {
@@ -75,7 +83,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 t0 == t1,
                 "the energy balance from {t0} to {t1} outside the last step [{start}, {end}]"
             );
-            return Ok([0.0; 3]);
+            return Ok([0.0; 4]);
         }
         self.dense()?;
         let whole = self.gauss(t0, t1)?;
@@ -87,26 +95,26 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     /// `depth` times. (The step's error control bounds the state, not the powers: a held state
     /// that does not move under a force that does, a table's drive, would otherwise be
     /// integrated over steps of a period.)
-    fn refine(&mut self, t0: f64, t1: f64, whole: [f64; 3], depth: u32) -> Result<[f64; 3], Error> {
+    fn refine(&mut self, t0: f64, t1: f64, whole: [f64; 4], depth: u32) -> Result<[f64; 4], Error> {
         let t_mid = 0.5 * (t0 + t1);
         let (left, right) = (self.gauss(t0, t_mid)?, self.gauss(t_mid, t1)?);
         let tol = self.sim.options.tolerances;
-        let agree = (0..3).all(|k| {
+        let agree = (0..4).all(|k| {
             let halves = left[k] + right[k];
             (halves - whole[k]).abs() <= tol.atol + tol.rtol * halves.abs()
         });
         if agree || depth == 0 || t_mid <= t0.min(t1) || t_mid >= t0.max(t1) {
-            return Ok([0, 1, 2].map(|k| left[k] + right[k]));
+            return Ok([0, 1, 2, 3].map(|k| left[k] + right[k]));
         }
         let left = self.refine(t0, t_mid, left, depth - 1)?;
         let right = self.refine(t_mid, t1, right, depth - 1)?;
-        Ok([0, 1, 2].map(|k| left[k] + right[k]))
+        Ok([0, 1, 2, 3].map(|k| left[k] + right[k]))
     }
 
     /// `∫ power` from `t0` to `t1` by 5-point Gauss–Legendre on the last step's interpolant.
-    fn gauss(&mut self, t0: f64, t1: f64) -> Result<[f64; 3], Error> {
+    fn gauss(&mut self, t0: f64, t1: f64) -> Result<[f64; 4], Error> {
         let mut y = vec![0.0; 2 * self.n];
-        let mut sum = [0.0; 3];
+        let mut sum = [0.0; 4];
         let h = t1 - t0;
         for (node, weight) in gauss() {
             let t = t0 + node * h;
@@ -121,19 +129,39 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         Ok(sum)
     }
 
-    /// The powers `(Q·q̇, −∂ₜL, −Σλᵢ Aᵢq̇)` at `(t, y)` in the current mode; on the held
-    /// constraints, where `ḣᵢ = 0`, `−λᵢ Aᵢq̇ = λᵢ ∂ₜhᵢ`: exactly 0 on a surface that does not
-    /// move (`−λ A q̇` would be the rounding of `A q̇`).
-    fn power(&mut self, t: f64, y: &[f64]) -> Result<[f64; 3], DynamicsError> {
+    /// The powers `(Q·q̇, −∂ₜL, −Σλᵢ Aᵢq̇, Σ fₜ,ᵢ sᵢ)` at `(t, y)` in the current mode; on the
+    /// held constraints, where `ḣᵢ = 0`, `−λᵢ Aᵢq̇ = λᵢ ∂ₜhᵢ`: exactly 0 on a surface that does
+    /// not move (`−λ A q̇` would be the rounding of `A q̇`); friction's power is that of the
+    /// slipping contacts (a sticking one has `s = 0`).
+    fn power(&mut self, t: f64, y: &[f64]) -> Result<[f64; 4], DynamicsError> {
         let (q, q_dot) = y.split_at(self.n);
-        let (forces, drive) = powers(self.sim.model, t, q, q_dot);
+        let (forces, drive) = if self.sim.model.is_autonomous() {
+            (0.0, 0.0)
+        } else {
+            powers(self.sim.model, t, q, q_dot)
+        };
         // Σ λᵢ ∂ₜhᵢ, summed as `Iterator::sum` does (from −0), 0 where nothing is held.
         let mut constraints: Option<f64> = None;
+        let mut friction = 0.0;
+        let slipping = self.grips.slipping();
         let mut w = vec![0.0; self.n];
-        contact::multipliers(&self.mech, self.held(), t, q, q_dot, &mut w, |_, l, h_t| {
-            constraints = Some(constraints.unwrap_or(-0.0) + l * h_t);
-        })?;
-        Ok([forces, drive, constraints.unwrap_or(0.0)])
+        let (held, grips) = (self.held(), self.grips);
+        contact::multipliers(
+            &self.mech,
+            held,
+            grips,
+            t,
+            q,
+            q_dot,
+            &mut w,
+            |i, l, h_t, f, s| {
+                constraints = Some(constraints.unwrap_or(-0.0) + l * h_t);
+                if slipping.contains(i) {
+                    friction += f * s;
+                }
+            },
+        )?;
+        Ok([forces, drive, constraints.unwrap_or(0.0), friction])
     }
 
     /// The work `−Σ Λᵢ ∂ₜhᵢ` of the impulses that took the normal velocities of `contacts` from

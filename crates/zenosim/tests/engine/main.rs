@@ -6,6 +6,7 @@ mod bouncing_ball;
 mod conservation;
 mod errors;
 mod forces_and_time;
+mod friction;
 mod liftoff;
 mod multiple_constraints;
 mod pendulum_chain;
