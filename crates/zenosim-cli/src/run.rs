@@ -392,6 +392,7 @@ fn energy_line(b: &EnergyBalanceJson) -> String {
         ("forces", b.work_forces),
         ("drive", b.work_drive),
         ("moving constraints", b.work_constraints),
+        ("friction", b.work_friction.unwrap_or(0.0)),
         ("impact loss", b.impact_loss),
     ];
     let mut sep = ": ";
@@ -416,6 +417,7 @@ mod tests {
             work_drive: 0.0,
             work_constraints: 0.0,
             impact_loss: 5.075432109,
+            work_friction: None,
             residual: -2.5e-12,
         };
         assert_eq!(

@@ -24,6 +24,8 @@ pub struct FileModel {
     pub(crate) h: Vec<Expression>,
     /// Per constraint, the user's `R∞`: (target slot, formula) pairs, evaluated together.
     pub(crate) resets: Vec<Vec<(usize, Expression)>>,
+    /// Per constraint with friction, its slip velocity `s(t, q, q̇)`.
+    pub(crate) slips: Vec<Option<Expression>>,
     /// The generalized forces of `[forces]`: (coordinate index, formula), in the file's order,
     /// one per coordinate at most.
     pub(crate) forces: Vec<(usize, Expression)>,
@@ -53,9 +55,14 @@ pub(crate) enum Formula {
     Force(usize),
 }
 
-/// A `[[constraint]]` of a [`FileModel`]: the constraint, its `h`, and its `zeno_reset`
-/// (target slot, formula) pairs, empty when it has none.
-pub(crate) type ConstraintParts = (Constraint, Expression, Vec<(usize, Expression)>);
+/// A `[[constraint]]` of a [`FileModel`]: the constraint, its `h`, its `zeno_reset`
+/// (target slot, formula) pairs, empty when it has none, and its slip where it has friction.
+pub(crate) type ConstraintParts = (
+    Constraint,
+    Expression,
+    Vec<(usize, Expression)>,
+    Option<Expression>,
+);
 
 impl FileModel {
     /// The model of these formulas, not compiled yet (set [`FileModel::compiled`] and
@@ -73,6 +80,7 @@ impl FileModel {
             constraints: Vec::with_capacity(constraints.len()),
             h: Vec::with_capacity(constraints.len()),
             resets: Vec::with_capacity(constraints.len()),
+            slips: Vec::with_capacity(constraints.len()),
             forces,
             dissipation,
             autonomous: true,
@@ -80,15 +88,17 @@ impl FileModel {
             parabolic: false,
             over_budget_in: OnceLock::new(),
         };
-        for (constraint, h, reset) in constraints {
+        for (constraint, h, reset, slip) in constraints {
             model.constraints.push(constraint);
             model.h.push(h);
             model.resets.push(reset);
+            model.slips.push(slip);
         }
         let t = model.time_slot();
         let timed = model.lagrangian.reads(t)
             || model.h.iter().any(|h| h.reads(t))
-            || model.resets.iter().flatten().any(|(_, f)| f.reads(t));
+            || model.resets.iter().flatten().any(|(_, f)| f.reads(t))
+            || model.slips.iter().flatten().any(|f| f.reads(t));
         model.autonomous = !timed && model.forces.is_empty() && model.dissipation.is_none();
         model
     }
@@ -236,6 +246,15 @@ impl HybridLagrangian for FileModel {
             Some(formula) => {
                 self.noting::<D, _>(Formula::Dissipation, formula.eval_at(q, q_dot, t))
             }
+            None => D::from(0.0),
+        }
+    }
+
+    /// The file's `slip` of constraint `index` (0 where it has none).
+    #[inline]
+    fn slip<D: Scalar>(&self, index: usize, t: D, q: &[D], q_dot: &[D]) -> D {
+        match &self.slips[index] {
+            Some(formula) => formula.eval_at(q, q_dot, t),
             None => D::from(0.0),
         }
     }

@@ -7,8 +7,8 @@ use std::str::FromStr;
 use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 use zenosim::{
-    ActiveSet, Compiled, Completion, Constraint, Derived, HybridLagrangian, Method, OutputGrid,
-    Readable, SimulationOptions, State, Tolerances, ZenoStrategy, MAX_DIMENSION,
+    ActiveSet, Compiled, Completion, Constraint, Derived, Friction, HybridLagrangian, Method,
+    OutputGrid, Readable, SimulationOptions, State, Tolerances, ZenoStrategy, MAX_DIMENSION,
 };
 
 use crate::error::{did_you_mean, Lines, Location, ModelError};
@@ -36,7 +36,7 @@ const TOP_KEYS: [&str; 11] = [
 const TIME_USES: &str = "lagrangian, each constraint's h and zeno_reset, [forces] and dissipation";
 
 /// The keys of a `[[constraint]]`.
-const CONSTRAINT_KEYS: [&str; 4] = ["name", "h", "restitution", "zeno_reset"];
+const CONSTRAINT_KEYS: [&str; 6] = ["name", "h", "restitution", "zeno_reset", "friction", "slip"];
 
 /// The keys of `[simulation]`.
 const SIMULATION_KEYS: [&str; 9] = [
@@ -544,7 +544,16 @@ impl<'s> Cx<'s> {
 
         let constraints = constraints
             .into_iter()
-            .map(|c| (Constraint::new(c.name, c.restitution), c.h, c.reset))
+            .map(|c| {
+                let (constraint, slip) = match c.friction {
+                    Some((friction, slip)) => (
+                        Constraint::new(c.name, c.restitution).with_friction(friction),
+                        Some(slip),
+                    ),
+                    None => (Constraint::new(c.name, c.restitution), None),
+                };
+                (constraint, c.h, c.reset, slip)
+            })
             .collect();
         let mut model = FileModel::new(coordinates, lagrangian, constraints, forces, dissipation);
         self.check_initial_state(root, &model, &initial)?;
@@ -1195,14 +1204,161 @@ impl<'s> Cx<'s> {
                 Some(item) => self.zeno_reset(item, &join(&prefix, "zeno_reset"), name, names)?,
                 None => Vec::new(),
             };
+            let friction = match table.get("friction") {
+                Some(item) => Some(self.friction(item, &join(&prefix, "friction"), name, names)?),
+                None => None,
+            };
+            let slip =
+                match (table.get("slip"), friction) {
+                    (Some(item), Some(_)) => {
+                        Some(self.slip(item, &join(&prefix, "slip"), name, names)?)
+                    }
+                    (Some(item), None) => {
+                        return Err(self.at(
+                            item.span().start,
+                            &join(&prefix, "slip"),
+                            format!("constraint `{name}` has a slip but no friction"),
+                            "add friction = 0.5 (Coulomb's coefficient), or remove slip",
+                        ))
+                    }
+                    (None, Some(_)) => return Err(self.missing(
+                        &join(&prefix, "slip"),
+                        format!("constraint `{name}` has friction but no slip"),
+                        "add slip = [\"…\"], the contact points' relative tangential velocity, \
+                         e.g. slip = [\"x_dot + r*th_dot\"] for a ball rolling on a floor",
+                    )),
+                    (None, None) => None,
+                };
             parsed.push(ParsedConstraint {
                 name: name.to_string(),
                 h,
                 restitution,
                 reset,
+                friction: friction.zip(slip),
             });
         }
         Ok(parsed)
+    }
+
+    /// A constraint's `friction`: Coulomb's coefficient (a number or a formula of the
+    /// parameters), or `{ static = …, kinetic = … }` with `kinetic <= static`.
+    fn friction<'n>(
+        &self,
+        item: &Item<'s>,
+        key: &str,
+        constraint: &str,
+        names: &impl Fn(Reads) -> Names<'n>,
+    ) -> Result<Friction, ModelError> {
+        let coefficient = |item: &Item<'s>, key: &str, what: &str| -> Result<f64, ModelError> {
+            let formula = self.formula(item, key)?;
+            let value = self.constant(&formula, &names(Reads::Constants), what)?;
+            if value < 0.0 {
+                return Err(self.formula_error(
+                    &formula,
+                    None,
+                    format!("{what} is {value}, below 0"),
+                    "a friction coefficient is 0 (frictionless) or more".to_string(),
+                ));
+            }
+            Ok(value)
+        };
+        if let DeValue::Table(table) = item.get_ref() {
+            self.known_keys(table, key, &["static", "kinetic"])?;
+            let get = |which: &str| -> Result<f64, ModelError> {
+                let sub = table.get(which).ok_or_else(|| {
+                    self.missing(
+                        &join(key, which),
+                        format!("the friction of `{constraint}` has no {which} coefficient"),
+                        "write friction = { static = 0.6, kinetic = 0.5 }, or one number for both",
+                    )
+                })?;
+                coefficient(
+                    sub,
+                    &join(key, which),
+                    &format!("the {which} friction of `{constraint}`"),
+                )
+            };
+            let (static_coefficient, kinetic_coefficient) = (get("static")?, get("kinetic")?);
+            if kinetic_coefficient > static_coefficient {
+                return Err(self.at(
+                    item.span().start,
+                    key,
+                    format!(
+                        "the kinetic friction of `{constraint}` ({kinetic_coefficient}) is above its static friction ({static_coefficient})"
+                    ),
+                    "Coulomb's kinetic coefficient is at most the static one: swap them, or give one number for both",
+                ));
+            }
+            return Ok(Friction {
+                static_coefficient,
+                kinetic_coefficient,
+            });
+        }
+        let mu = coefficient(item, key, &format!("the friction of `{constraint}`"))?;
+        Ok(Friction::coulomb(mu))
+    }
+
+    /// A constraint's `slip`: one formula of `t`, the coordinates, the velocities and the
+    /// parameters, affine in the velocities (a contact in a plane; two, a contact in space, are
+    /// not supported yet).
+    fn slip<'n>(
+        &self,
+        item: &Item<'s>,
+        key: &str,
+        constraint: &str,
+        names: &impl Fn(Reads) -> Names<'n>,
+    ) -> Result<Expression, ModelError> {
+        let example = "slip = [\"x_dot + r*th_dot\"]";
+        let DeValue::Array(array) = item.get_ref() else {
+            return Err(self.at(
+                item.span().start,
+                key,
+                format!("the slip of `{constraint}` must be a list of formulas"),
+                format!("write {example}: the contact points' relative tangential velocity"),
+            ));
+        };
+        if array.len() != 1 {
+            return Err(self.at(
+                item.span().start,
+                key,
+                format!("the slip of `{constraint}` has {} formulas", array.len()),
+                format!(
+                    "a contact in a plane has one slip formula, e.g. {example}; a contact in \
+                     space (two formulas, an isotropic cone) is not supported yet"
+                ),
+            ));
+        }
+        let entry = &array[0];
+        let entry_key = format!("{key}[1]");
+        let formula = self.formula(entry, &entry_key)?;
+        let state = names(Reads::State);
+        let what = format!("the slip of `{constraint}`");
+        let expression = self.compile(&formula, &state, &what)?;
+        let n = state.coordinates.len();
+        if !expression
+            .slots()
+            .iter()
+            .any(|&slot| (n..2 * n).contains(&slot))
+        {
+            return Err(self.formula_error(
+                &formula,
+                None,
+                format!("{what} does not depend on any velocity"),
+                format!("the slip is a velocity, affine in the velocities: {example}"),
+            ));
+        }
+        if let Some(pair) = not_affine(&expression, n) {
+            return Err(self.formula_error(
+                &formula,
+                None,
+                format!(
+                    "{what} is not affine in the velocities: its derivative along {}_dot changes with {}_dot",
+                    state.coordinates[pair.0], state.coordinates[pair.1]
+                ),
+                format!("the slip is the contact points' relative velocity, of the form a(t, q)·q̇ + b(t, q): {example}"),
+            ));
+        }
+        Ok(expression)
     }
 
     fn zeno_reset<'n>(
@@ -1780,6 +1936,41 @@ struct ParsedConstraint {
     h: Expression,
     restitution: f64,
     reset: Vec<(usize, Expression)>,
+    /// Coulomb friction and the slip formula, where the constraint has them.
+    friction: Option<(Friction, Expression)>,
+}
+
+/// A pair of velocities `(i, j)` along which `expression`'s second derivative is not 0 at one
+/// of a few sample states: the slip is then not affine in the velocities. Hyper-dual numbers
+/// give the second derivatives exactly; the states are spread so that a product of velocities
+/// or a nonlinear function of one shows at one of them.
+fn not_affine(expression: &Expression, n: usize) -> Option<(usize, usize)> {
+    use num_dual::HyperDual64;
+    let samples = [0.0, 0.7, -1.3, 2.9];
+    for (k, &base) in samples.iter().enumerate() {
+        let value = |slot: usize| base + 0.37 * slot as f64 + 0.11 * k as f64;
+        for i in 0..n {
+            for j in i..n {
+                let vars: Vec<HyperDual64> = (0..=2 * n)
+                    .map(|slot| {
+                        let mut x = HyperDual64::from(value(slot));
+                        if slot == n + i {
+                            x.eps1 = 1.0;
+                        }
+                        if slot == n + j {
+                            x.eps2 = 1.0;
+                        }
+                        x
+                    })
+                    .collect();
+                let second = expression.eval(&vars).eps1eps2;
+                if second != 0.0 && second.is_finite() {
+                    return Some((i, j));
+                }
+            }
+        }
+    }
+    None
 }
 
 /// `"auto"`, `"off"` or a number (the ε rule), as the command line writes a Zeno strategy.

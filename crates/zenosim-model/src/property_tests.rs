@@ -271,6 +271,7 @@ fn tree_model(t: &str, compile: bool) -> FileModel {
             zenosim::Constraint::new("c", 0.5),
             Expression::parse(t, &NAMES).unwrap(),
             Vec::new(),
+            None,
         )],
         Vec::new(),
         None,

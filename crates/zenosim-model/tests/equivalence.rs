@@ -257,6 +257,18 @@ fn every_shipped_model_loads_and_runs_to_its_stop_time() {
             &file.initial.q_dot,
             file.options(),
         );
+        if name == "painleve-rod.toml" {
+            // The one model made to fail: at Painlevé's paradox, at once (docs/friction.md).
+            assert!(
+                matches!(
+                    run.outcome,
+                    Outcome::Failed(zenosim::Error::Painleve { .. })
+                ),
+                "{name}: {}",
+                run.outcome
+            );
+            continue;
+        }
         assert_eq!(run.outcome, Outcome::Finished, "{name}");
         assert_eq!(run.t_final, file.settings.t_end, "{name}");
         // Every model reaches the constrained motion: through a Zeno point, or held from the

@@ -273,10 +273,15 @@ pub struct EnergyBalanceJson {
     pub work_drive: f64,
     /// The work of the constraints on surfaces that move.
     pub work_constraints: f64,
-    /// The energy taken out by impacts and Zeno switches (≥ 0).
+    /// The energy taken out by impacts and Zeno switches (≥ 0), their tangential impulses'
+    /// included.
     pub impact_loss: f64,
-    /// `energy_end − energy_start − (work_forces + work_drive + work_constraints −
-    /// impact_loss)`: 0 but for the integration error.
+    /// `∫ Σ fₜ s dt ≤ 0`: the work of friction at slipping contacts; only for a model with
+    /// friction (docs/friction.md).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub work_friction: Option<f64>,
+    /// `energy_end − energy_start − (work_forces + work_drive + work_constraints +
+    /// work_friction − impact_loss)`: 0 but for the integration error.
     pub residual: f64,
 }
 
@@ -297,6 +302,11 @@ impl EnergyBalanceJson {
             work_drive: work.drive,
             work_constraints: work.constraints,
             impact_loss: work.impact_loss,
+            work_friction: model
+                .constraints()
+                .iter()
+                .any(|c| c.friction.is_some())
+                .then_some(work.friction),
             residual: energy_end - energy_start - work.balance(),
         }
     }
@@ -357,7 +367,7 @@ impl<'a> AfterJson<'a> {
 /// An event.
 #[derive(DeriveSerialize)]
 pub struct EventJson<'a> {
-    /// `impact`, `zeno` or `liftoff`.
+    /// `impact`, `zeno`, `liftoff`, `stick` or `slip`.
     pub kind: &'static str,
     /// When.
     pub t: f64,
@@ -367,6 +377,10 @@ pub struct EventJson<'a> {
     pub contacts: Vec<&'a str>,
     /// For an impact, the impulse on each of `contacts` (pushing, ≥ 0); else empty.
     pub impulses: &'a [f64],
+    /// For an impact on contacts with friction, the tangential impulse on each of `contacts`
+    /// (along increasing slip; docs/friction.md); absent otherwise.
+    #[serde(skip_serializing_if = "<[f64]>::is_empty")]
+    pub tangential_impulses: &'a [f64],
     /// The state just before.
     pub before: StateJson<'a>,
     /// The state just after (without `q` where it is `before`'s).
@@ -507,6 +521,7 @@ impl<'a> Record<'a> {
                 constraint: name(e.constraint),
                 contacts: active_names(e.contacts, names),
                 impulses: &e.impulses,
+                tangential_impulses: &e.tangential,
                 before: (&e.before).into(),
                 after: AfterJson::of(&e.before, &e.after),
             }),

@@ -1,0 +1,265 @@
+//! Coulomb friction from model files (docs/friction.md): the shipped frictional models against
+//! their closed forms, and every way a `friction` or `slip` key is refused.
+
+use std::path::PathBuf;
+
+use zenosim::{EventKind, Execution, Outcome, Simulation, Trajectory};
+use zenosim_model::{parse_model, ModelError, ModelFile, Override};
+
+const G: f64 = 9.81;
+
+fn load(name: &str, overrides: &[(&str, &str)]) -> ModelFile {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../models/{name}.toml"));
+    let source = std::fs::read_to_string(&path).unwrap();
+    let overrides: Vec<Override> = overrides
+        .iter()
+        .map(|(name, value)| Override {
+            name: name.to_string(),
+            value: value.to_string(),
+        })
+        .collect();
+    parse_model(&format!("{name}.toml"), &source, &overrides).unwrap()
+}
+
+fn run(file: &ModelFile) -> (Execution, Trajectory) {
+    let mut trajectory = Trajectory::default();
+    let run = Simulation::new(
+        &file.model,
+        &file.initial.q,
+        &file.initial.q_dot,
+        file.options(),
+    )
+    .unwrap()
+    .run(&mut trajectory);
+    (run, trajectory)
+}
+
+fn times(run: &Execution, kind: EventKind) -> Vec<f64> {
+    run.events
+        .iter()
+        .filter(|e| e.kind == kind)
+        .map(|e| e.t)
+        .collect()
+}
+
+/// models/ball-backspin.toml: it sticks at its first impact (the slip stops there), leaves
+/// rolling at `(5 ẋ₀ − 2 r θ̇₀)/7`, and reaches the bouncing ball's Zeno point; with `μ = 0.02`
+/// it slides through the Zeno point and rolls from `t_Z + |s_Z|/((7/2) μ g)`.
+#[test]
+fn the_ball_with_backspin_sticks_or_slides_through_its_zeno_point() {
+    let (r, e, y0, v0, w0) = (0.1, 0.5, 1.0, 1.0, -20.0);
+    let t1 = f64::sqrt(2.0 * (y0 - r) / G);
+    let t_zeno = t1 * (1.0 + e) / (1.0 - e);
+    let rolling = (5.0 * v0 - 2.0 * r * w0) / 7.0;
+
+    let (sticking, _) = run(&load("ball-backspin", &[]));
+    assert_eq!(sticking.outcome, Outcome::Finished, "{}", sticking.outcome);
+    let first = sticking
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::Impact)
+        .unwrap();
+    assert!((first.t - t1).abs() < 1e-12, "{first:?}");
+    assert!((first.after.q_dot[0] - rolling).abs() < 1e-12, "{first:?}");
+    assert!(
+        (sticking.zeno[0].t_zeno - t_zeno).abs() < 1e-9,
+        "{:?}",
+        sticking.zeno
+    );
+    let end = &sticking.final_state;
+    assert!((end.q_dot[0] - rolling).abs() < 1e-9, "{end:?}");
+    assert!((end.q_dot[0] + r * end.q_dot[2]).abs() < 1e-9, "{end:?}");
+
+    let mu = 0.02;
+    let (sliding, trajectory) = run(&load("ball-backspin", &[("mu", "0.02")]));
+    assert_eq!(sliding.outcome, Outcome::Finished, "{}", sliding.outcome);
+    let v1 = G * t1;
+    let s_zeno = v0 + r * w0 + 3.5 * mu * (1.0 + e) * v1 / (1.0 - e);
+    let t_stick = t_zeno + s_zeno.abs() / (3.5 * mu * G);
+    assert_eq!(times(&sliding, EventKind::Stick).len(), 1);
+    let stick = times(&sliding, EventKind::Stick)[0];
+    assert!((stick - t_stick).abs() < 1e-8, "{stick} against {t_stick}");
+    assert!((sliding.final_state.q_dot[0] - rolling).abs() < 1e-9);
+    // Friction took energy out, and the balance with its work closes.
+    let last = trajectory.points.last().unwrap();
+    assert!(last.work.friction < 0.0, "{:?}", last.work);
+    assert!(
+        trajectory.balance_residual() < 1e-8,
+        "{}",
+        trajectory.balance_residual()
+    );
+}
+
+/// models/rough-incline.toml: with `μ > tan α` the block stops at `v₀/(g (μ cos α − sin α))`
+/// and stays; with `μ = 0.2 < tan α` it slides on, accelerating at `g (sin α − μ cos α)`.
+#[test]
+fn the_block_on_the_rough_incline_stops_or_slides_on() {
+    let (alpha, v0, t_end) = (0.3_f64, 2.0, 3.0);
+    let (run_stop, _) = run(&load("rough-incline", &[]));
+    let decel = G * (0.5 * alpha.cos() - alpha.sin());
+    let t_stop = v0 / decel;
+    assert_eq!(times(&run_stop, EventKind::Stick), [run_stop.events[0].t]);
+    assert!(
+        (run_stop.events[0].t - t_stop).abs() < 1e-9,
+        "{:?}",
+        run_stop.events
+    );
+    let x_stop = v0 * t_stop - 0.5 * decel * t_stop * t_stop;
+    assert!((run_stop.final_state.q[0] - x_stop).abs() < 1e-9);
+    assert_eq!(run_stop.final_state.q_dot[0], 0.0);
+
+    let (run_slide, _) = run(&load("rough-incline", &[("mu", "0.2")]));
+    assert!(run_slide.events.is_empty(), "{:?}", run_slide.events);
+    let a = G * (alpha.sin() - 0.2 * alpha.cos());
+    let end = &run_slide.final_state;
+    assert!(
+        (end.q[0] - (v0 * t_end + 0.5 * a * t_end * t_end)).abs() < 1e-9,
+        "{end:?}"
+    );
+    assert!((end.q_dot[0] - (v0 + a * t_end)).abs() < 1e-9, "{end:?}");
+}
+
+/// models/belt-stick-slip.toml: the first slip ends where the block's velocity is the belt's,
+/// `sin ω t = v_b/(c ω)` (`c = μₖ g/k`, `ω = √k`); it sticks until `k x = μₛ g`; then slips on the
+/// ellipse about `c` to `x = 2c − x_slip`; the cycle repeats.
+#[test]
+fn the_block_on_the_belt_sticks_and_slips() {
+    let (k, v_b, mu_s, mu_k) = (4.0_f64, 0.5, 0.6, 0.4);
+    let (run, _) = run(&load("belt-stick-slip", &[]));
+    assert_eq!(run.outcome, Outcome::Finished);
+    let omega = k.sqrt();
+    let c = mu_k * G / k;
+    let t_stick = (v_b / (c * omega)).asin() / omega;
+    let x_stick = c * (1.0 - (omega * t_stick).cos());
+    let x_slip = mu_s * G / k;
+    let t_slip = t_stick + (x_slip - x_stick) / v_b;
+    // The slip from x_slip at v_b: x − c = a cos(ω τ + φ), back at ẋ = v_b after
+    // ω τ = −π − 2 φ (mod 2π).
+    let phase = (-v_b / omega).atan2(x_slip - c);
+    let tau = ((-std::f64::consts::PI - 2.0 * phase) / omega)
+        .rem_euclid(2.0 * std::f64::consts::PI / omega);
+    let period = tau + 2.0 * (x_slip - c) / v_b;
+    let sticks = times(&run, EventKind::Stick);
+    let slips = times(&run, EventKind::Slip);
+    assert_eq!((sticks.len(), slips.len()), (3, 2), "{:?}", run.events);
+    let expected_sticks = [t_stick, t_slip + tau, t_slip + tau + period];
+    let expected_slips = [t_slip, t_slip + period];
+    for (t, expected) in sticks.iter().zip(expected_sticks) {
+        assert!((t - expected).abs() < 1e-8, "{t} against {expected}");
+    }
+    for (t, expected) in slips.iter().zip(expected_slips) {
+        assert!((t - expected).abs() < 1e-8, "{t} against {expected}");
+    }
+}
+
+/// models/painleve-rod.toml: `1 + 3 cos²θ − 3 μ sin θ cos θ < 0` while it slides towards its
+/// lower end: the run fails at once, naming the contact; with little friction it slides.
+#[test]
+fn the_rod_at_painleves_paradox_fails_and_names_the_contact() {
+    let (run_paradox, _) = run(&load("painleve-rod", &[]));
+    match &run_paradox.outcome {
+        Outcome::Failed(zenosim::Error::Painleve { constraints, .. }) => {
+            assert_eq!(constraints, &["end".to_string()])
+        }
+        other => panic!("expected Painlevé's paradox, got {other:?}"),
+    }
+    let (run_slide, _) = run(&load("painleve-rod", &[("mu", "0.1")]));
+    assert_eq!(
+        run_slide.outcome,
+        Outcome::Finished,
+        "{}",
+        run_slide.outcome
+    );
+}
+
+const GOOD: &str = r#"name = "block"
+coordinates = ["x", "y"]
+lagrangian = "0.5*(x_dot^2 + y_dot^2) - 9.81*y"
+
+[parameters]
+mu = 0.5
+
+[[constraint]]
+name = "floor"
+h = "y"
+restitution = 0.0
+friction = "mu"
+slip = ["x_dot"]
+
+[initial]
+x_dot = 1.0
+"#;
+
+fn refused(from: &str, to: &str, fragment: &str) -> ModelError {
+    assert!(GOOD.contains(from), "{from:?}");
+    let source = GOOD.replacen(from, to, 1);
+    let error = match parse_model("case.toml", &source, &[]) {
+        Ok(_) => panic!("accepted:\n{source}"),
+        Err(error) => error,
+    };
+    let text = error.to_string();
+    assert!(text.starts_with("case.toml:"), "{text}");
+    assert!(text.contains(fragment), "expected {fragment:?} in:\n{text}");
+    assert!(text.contains("= help: "), "{text}");
+    error
+}
+
+#[test]
+fn friction_and_slip_keys_are_checked() {
+    parse_model("case.toml", GOOD, &[]).unwrap();
+    parse_model(
+        "case.toml",
+        &GOOD.replace(
+            "friction = \"mu\"",
+            "friction = { static = 0.6, kinetic = 0.5 }",
+        ),
+        &[],
+    )
+    .unwrap();
+    refused("slip = [\"x_dot\"]\n", "", "has friction but no slip");
+    refused("friction = \"mu\"\n", "", "has a slip but no friction");
+    refused("friction = \"mu\"", "friction = -0.1", "below 0");
+    refused(
+        "friction = \"mu\"",
+        "friction = { static = 0.4, kinetic = 0.5 }",
+        "is above its static friction",
+    );
+    refused(
+        "friction = \"mu\"",
+        "friction = { static = 0.4 }",
+        "no kinetic coefficient",
+    );
+    refused("friction = \"mu\"", "friction = \"x\"", "x");
+    refused(
+        "slip = [\"x_dot\"]",
+        "slip = [\"x_dot\", \"y_dot\"]",
+        "not supported yet",
+    );
+    refused("slip = [\"x_dot\"]", "slip = \"x_dot\"", "must be a list");
+    refused(
+        "slip = [\"x_dot\"]",
+        "slip = [\"x\"]",
+        "does not depend on any velocity",
+    );
+    let e = refused(
+        "slip = [\"x_dot\"]",
+        "slip = [\"x_dot + 0.1*x_dot*y_dot\"]",
+        "is not affine in the velocities",
+    );
+    assert_eq!(e.key(), Some("constraint[1].slip[1]"), "{e}");
+    refused(
+        "slip = [\"x_dot\"]",
+        "slip = [\"sin(x_dot)\"]",
+        "not affine",
+    );
+    // Affine with coefficients of the coordinates and the time: accepted.
+    parse_model(
+        "case.toml",
+        &GOOD.replace(
+            "slip = [\"x_dot\"]",
+            "slip = [\"cos(x)*x_dot + t*y_dot - 2\"]",
+        ),
+        &[],
+    )
+    .unwrap();
+}
