@@ -681,10 +681,12 @@ def zenosim_version(zenosim):
     return {"version": v, "git": git}
 
 
-def run_zenosim(zenosim, model, tol, args, workdir):
-    out_dir = os.path.join(workdir, f"zenosim-{model['name']}-{tol:g}")
+def run_zenosim(zenosim, model, tol, args, workdir, t_end=None):
+    """zenosim run at rtol = atol = tol (to t_end when given, else the file's)."""
+    out_dir = os.path.join(workdir, f"zenosim-{model['name']}-{tol:g}"
+                           + (f"-to-{t_end:g}" if t_end is not None else ""))
     cmd = [zenosim, "run", model["path"], "--out", out_dir, "--rtol", repr(tol),
-           "--atol", repr(tol)]
+           "--atol", repr(tol)] + (["--t-end", repr(t_end)] if t_end is not None else [])
     summary_path = os.path.join(out_dir, "summary.json")
     if os.path.exists(summary_path):
         os.remove(summary_path)
@@ -845,8 +847,13 @@ def zenosim_impacts(summary):
         before, after = ev.get("before") or {}, ev.get("after") or {}
         if before.get("q") is None or before.get("q_dot") is None or after.get("q_dot") is None:
             continue
+        names = event_contacts(ev)
+        impulses = ev.get("impulses")
+        impulsed = ([n for n, x in zip(names, impulses) if x > 0]
+                    if isinstance(impulses, list) and len(impulses) == len(names) else names)
         out.append({"t": ev["t"], "q": before["q"], "v_before": before["q_dot"],
-                    "v_after": after["q_dot"], "reported_contacts": event_contacts(ev)})
+                    "v_after": after["q_dot"], "reported_contacts": names,
+                    "impulsed": impulsed})
     return out
 
 

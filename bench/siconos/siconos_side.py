@@ -41,8 +41,9 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PLUGIN_DIR = os.path.join(HERE, "plugins")
-# Events of a Siconos run kept in full (the counts are always exact).
-KEEP_EVENTS = 20000
+# Events of a Siconos run kept in full (time-stepping: every step with an impulse, from which
+# the impacts are counted; a run with more says so, events_truncated).
+KEEP_EVENTS = 100000
 # An event-driven run stops as stalled after this many non-smooth events.
 MAX_NS_EVENTS = 200000
 
@@ -467,6 +468,7 @@ def run_d1minus(runner, spec, scheme, libs, workdir, timeout, repeat_below, min_
             walls = list(again["wall_time_s"])
     for ev in res["events"]:
         ev["impulse"] = dict(zip(names, ev["impulse"]))
+        ev["force"] = dict(zip(names, ev["force"]))
     if res.get("final"):
         res["final"]["lambda"] = {n: v for n, v in zip(names, res["final"]["lambda"])}
     res["ns_events"] = None

@@ -298,11 +298,14 @@ def approaching(model, t, q, v, candidates=None):
 
 def impacts_event_driven(model, events):
     """Event-driven tools (zenosim, Siconos ED): an impact is an event with a velocity jump on
-    a contact that is closed (|h| <= REST) and approaching (see approaching)."""
+    a contact that is closed (|h| <= REST), has an impulse there (the event's "impulsed": the
+    contacts the tool applied a positive impulse to) and is approaching (see approaching).
+    Without the impulse a contact a few micrometres away, approaching, would count as struck
+    although the tool struck it only later (the column of beads)."""
     out = []
     for ev in events:
         hs = file_h(model, ev["t"], ev["q"])
-        closed = {k for k, x in hs.items() if abs(x) <= REST}
+        closed = {k for k, x in hs.items() if abs(x) <= REST and k in ev["impulsed"]}
         if ev["v_before"] == ev["v_after"]:
             continue
         cs = approaching(model, ev["t"], ev["q"], ev["v_before"], closed)
@@ -332,35 +335,66 @@ def impacts_time_stepping(model, spec, events):
     return out
 
 
-def metrics(model, ref, impacts, final, zeno_estimates, final_dt=0.0):
-    """final_dt: how far from the reference's final time the tool's final state may be and
-    still be compared (a time-stepping run ends on its grid: up to one step h from t_end)."""
-    out = {"impacts": len(impacts)}
-    per = {}
-    for imp in impacts:
-        for c in imp["contacts"]:
-            per.setdefault(c, []).append(imp["t"])
-    out["impacts_per_contact"] = {k: len(v) for k, v in sorted(per.items())}
-    ref_per = {}
-    for r in ref.get("impacts") or []:
-        for c in r.get("contacts") or []:
-            ref_per.setdefault(c, []).append(r["t"])
-    out["reference_impacts"] = len(ref.get("impacts") or [])
+def reference_window(model, ref):
+    """The end of the reference's window when it stops before the model's t_end (the
+    slider-cranks: 0.03 of 0.2), else None. Inside it every impact, Zeno point and lift-off of
+    the reference is listed; the final state is the one at its end."""
+    rf = ref.get("final") or {}
+    t = rf.get("t")
+    if t is not None and t < model["t_end"] * (1 - 1e-12):
+        return t
+    return None
+
+
+def match_per_contact(tool, reference):
+    """Per contact, the k-th time of the tool against the k-th of the reference: the matched
+    pairs (contact, k, t, t_ref, error) and how many of the tool's had no partner."""
     errors, unmatched = [], 0
-    for c, times in per.items():
-        rts = ref_per.get(c, [])
+    for c, times in tool.items():
+        rts = reference.get(c, [])
         for k, t in enumerate(times):
             if k < len(rts):
                 errors.append({"contact": c, "k": k + 1, "t": t, "t_ref": rts[k],
                                "error": abs(t - rts[k])})
             else:
                 unmatched += 1
+    return errors, unmatched
+
+
+def per_contact(items, key="contacts"):
+    out = {}
+    for it in items:
+        for c in it.get(key) or []:
+            out.setdefault(c, []).append(it["t"])
+    return out
+
+
+def metrics(model, ref, impacts, final, zeno_estimates, final_dt=0.0, window=None,
+            liftoffs=None):
+    """final_dt: how far from the reference's final time the tool's final state may be and
+    still be compared (a time-stepping run ends on its grid: up to one step h from t_end).
+    window: the end of the reference's window (reference_window): only the impacts and lift-offs
+    up to it are matched, and `final` is the tool's state there (from a run to that time).
+    liftoffs: the tool's lift-offs ({"t", "contacts"}), matched like the impacts when the
+    reference lists some."""
+    out = {"impacts": len(impacts)}
+    per = per_contact(impacts)
+    out["impacts_per_contact"] = {k: len(v) for k, v in sorted(per.items())}
+    if window is not None:
+        out["window"] = window
+        inside = [i for i in impacts if i["t"] <= window]
+        out["impacts_in_window"] = len(inside)
+        per = per_contact(inside)
+        out["impacts_in_window_per_contact"] = {k: len(v) for k, v in sorted(per.items())}
+    ref_per = per_contact(ref.get("impacts") or [])
+    out["reference_impacts"] = len(ref.get("impacts") or [])
+    errors, unmatched = match_per_contact(per, ref_per)
     out["impact_time_max_error"] = max((e["error"] for e in errors), default=None)
     first = sorted(errors, key=lambda e: e["t_ref"])[:FIRST_IMPACTS]
     out["impact_time_max_error_first"] = max((e["error"] for e in first), default=None)
     out["impacts_matched"] = len(errors)
     out["impacts_beyond_reference"] = unmatched
-    out["impact_errors"] = errors[:400]
+    out["impact_errors"] = errors[:2000]
     zeno = []
     for zr in ref.get("zeno") or []:
         names = zr.get("constraints") or zr.get("contacts") or []
@@ -372,6 +406,13 @@ def metrics(model, ref, impacts, final, zeno_estimates, final_dt=0.0):
         else:
             zeno.append({"contacts": names, "t_ref": zr["t"], "t": None, "error": None})
     out["zeno"] = zeno
+    if ref.get("liftoffs") and liftoffs is not None:
+        lifts = [x for x in liftoffs if window is None or x["t"] <= window]
+        lerr, lun = match_per_contact(per_contact(lifts), per_contact(ref["liftoffs"],
+                                                                     "constraints"))
+        out["liftoff_errors"] = lerr
+        out["liftoffs_beyond_reference"] = lun
+        out["liftoff_max_error"] = max((e["error"] for e in lerr), default=None)
     rf = ref.get("final")
     out["final_state_error"] = None
     if final is not None and rf and rf.get("q") is not None and final.get("q") is not None:
@@ -382,6 +423,14 @@ def metrics(model, ref, impacts, final, zeno_estimates, final_dt=0.0):
                 pairs += list(zip(final["q_dot"], rf["q_dot"]))
             out["final_state_error"] = max(abs(a - b) for a, b in pairs)
             out["final_q_error"] = max(abs(a - b) for a, b in zip(final["q"], rf["q"]))
+    rest = ref.get("rest")
+    if not rf and rest and final is not None and final.get("q") is not None:
+        # no state at t_end, only the one the motion ends in: the final state against it
+        out["final_t"] = final["t"]
+        out["rest_state_error"] = max(abs(a - b) for a, b in
+                                      list(zip(final["q"], rest["q"]))
+                                      + list(zip(final["q_dot"], rest["q_dot"])))
+        out["rest_q_error"] = max(abs(a - b) for a, b in zip(final["q"], rest["q"]))
     return out
 
 
@@ -444,13 +493,46 @@ def run_siconos(spec, scheme, libs, args, workdir):
     return run
 
 
-def siconos_zeno(model, spec, scheme, run, impacts, ref):
-    """Siconos has no Zeno estimate: the last impact on a contact, counted if the run ends with
-    that contact closed (event-driven: |h| and |h_dot| <= REST; time-stepping: an impulse on it
-    in the last step)."""
-    if run.get("status") != "finished" or not run.get("final"):
+# A contact is held by a time-stepping run through a run of at least this many consecutive
+# steps with an impulse on it, or a contact force (D1Minus's acceleration-level problem); fewer
+# is a contact that closes, or a scheme that chatters.
+HOLD_STEPS = 10
+
+
+def holds(run, names):
+    """The time-stepping run's holds of all the contacts names: (start of the first step, end of
+    the last step, whether the last step is the run's last), per run of at least HOLD_STEPS
+    consecutive steps with an impulse or a contact force on each of them."""
+    out, first, prev = [], None, None
+
+    def close():
+        if first is not None and prev["k"] - first["k"] + 1 >= HOLD_STEPS:
+            out.append((first["t_start"], prev["t"], prev["k"] == run.get("steps")))
+
+    for ev in run.get("events") or []:
+        force = ev.get("force") or {}
+        on = all(ev["impulse"].get(c, 0.0) > 0 or force.get(c, 0.0) > 0 for c in names)
+        if on and prev is not None and ev["k"] == prev["k"] + 1:
+            prev = ev
+            continue
+        close()
+        first, prev = (ev, ev) if on else (None, None)
+    close()
+    return out
+
+
+def siconos_zeno(model, spec, scheme, run, impacts, ref, end_run=None):
+    """Siconos has no Zeno estimate: its last impact on the contacts before they stay closed,
+    counted if they are closed after it: event-driven, at the end of the run (|h| and |h_dot|
+    <= REST); time-stepping, in a hold (HOLD_STEPS) through the end of the run or, where the
+    reference has them lift off after the Zeno point, through the time half-way between the
+    two; the estimate is then the last impact up to the hold's first step. end_run: the run
+    that ends at the end of the reference's window, if there is one."""
+    end_run = end_run or run
+    if run.get("status") != "finished" or end_run.get("status") != "finished" \
+            or not end_run.get("final"):
         return []
-    final = run["final"]
+    final = end_run["final"]
     q = join_state(spec, model, final["q"])
     v = join_state(spec, model, final["q_dot"])
     hs = file_h(model, final["t"], q)
@@ -458,16 +540,44 @@ def siconos_zeno(model, spec, scheme, run, impacts, ref):
     out = []
     for zr in ref.get("zeno") or []:
         names = zr.get("constraints") or zr.get("contacts") or []
+        lift = [x["t"] for x in ref.get("liftoffs") or []
+                if x["t"] > zr["t"] and set(x.get("constraints") or x.get("contacts") or [])
+                & set(names)]
         if scheme["kind"] == "ED":
-            closed = all(abs(hs[c]) <= REST and abs(hd[c]) <= REST for c in names)
+            if lift:
+                continue  # no state between events is kept
+            if not all(abs(hs[c]) <= REST and abs(hd[c]) <= REST for c in names):
+                continue
+            t_last, source = final["t"], "last impact before rest"
         else:
-            closed = all((final["lambda"].get(c) or [0.0])[0] > 0 for c in names)
-        if not closed:
-            continue
-        times = [imp["t"] for imp in impacts if set(imp["contacts"]) & set(names)]
+            if lift:
+                t_check = 0.5 * (zr["t"] + min(lift))
+                hold = [(a, b) for a, b, _ in holds(run, names) if a < t_check <= b]
+                source = f"last impact before its hold through t = {t_check:.6g}"
+            else:
+                hold = [(a, b) for a, b, last in holds(end_run, names) if last]
+                source = "last impact before its hold to the end"
+            if not hold:
+                continue
+            t_last = hold[0][0] + 1.5 * scheme["h"]  # an impact is timed at its step's end
+        times = [imp["t"] for imp in impacts
+                 if set(imp["contacts"]) & set(names) and imp["t"] <= t_last]
         if times:
-            out.append({"contacts": names, "t": max(times), "source": "last impact before rest"})
+            out.append({"contacts": names, "t": max(times), "source": source})
     return out
+
+
+def siconos_liftoffs(model, run):
+    """Time-stepping: a lift-off ends a hold of a contact (HOLD_STEPS) before the run's last
+    step; its time is the end of the hold's last step. Event-driven runs: none computed."""
+    events = run.get("events") or []
+    if not events or "k" not in events[0]:
+        return None
+    out = []
+    for c in model["constraints"]:
+        out += [{"t": b, "contacts": [c["name"]]} for _, b, last in holds(run, [c["name"]])
+                if not last]
+    return sorted(out, key=lambda x: x["t"])
 
 
 def outcome_text(status, t_reached):
@@ -477,8 +587,14 @@ def outcome_text(status, t_reached):
     return f"{status}{where}"
 
 
+def zenosim_liftoffs(summary):
+    return [{"t": ev["t"], "contacts": peer.event_contacts(ev)}
+            for ev in summary.get("events") or [] if ev.get("kind") == "liftoff"]
+
+
 def zenosim_rows(model, ref, zenosim, args, workdir):
     rows = []
+    window = reference_window(model, ref)
     bench, bench_error = peer.bench_zenosim(zenosim, model, args)
     for k, tol in enumerate(args.tolerances):
         zr = peer.run_zenosim(zenosim, model, tol, args, workdir)
@@ -492,7 +608,16 @@ def zenosim_rows(model, ref, zenosim, args, workdir):
                 events.append(ev)
             impacts = impacts_event_driven(model, events)
             final = summary.get("final")
-            row["metrics"] = metrics(model, ref, impacts, final, peer.zenosim_zeno(summary))
+            compared = final
+            if window is not None:
+                # the state at the end of the reference's window: a run to that time
+                wr = peer.run_zenosim(zenosim, model, tol, args, workdir, t_end=window)
+                ws = wr.get("summary") or {}
+                compared = ws.get("final") if wr["status"] == "finished" else None
+                row["window_run"] = {"command": wr.get("command"), "status": wr["status"],
+                                     "reason": wr.get("reason"), "final": ws.get("final")}
+            row["metrics"] = metrics(model, ref, impacts, compared, peer.zenosim_zeno(summary),
+                                     window=window, liftoffs=zenosim_liftoffs(summary))
             row["final"] = final
             row["impact_times"] = [i["t"] for i in impacts][:2000]
             row["zeno_reported"] = summary.get("zeno")
@@ -515,8 +640,28 @@ def zenosim_rows(model, ref, zenosim, args, workdir):
     return rows
 
 
+def run_scheme(spec, scheme, libs, args, workdir, timing=True):
+    """One Siconos run of the scheme (D1Minus through the C++ runner), timed by repeats if
+    timing; a dict as siconos_side.run_once's, or a "not run" one."""
+    if scheme.get("osi") == "D1MinusLinearOSI":
+        if args.d1minus_runner is None:
+            try:
+                args.d1minus_runner = siconos_side.compile_d1minus_runner(args.build_dir)
+            except Exception as err:
+                args.d1minus_runner = err
+        if isinstance(args.d1minus_runner, Exception):
+            return {"status": "not run", "reason": str(args.d1minus_runner)}
+        return siconos_side.run_d1minus(args.d1minus_runner, spec, scheme, libs, workdir,
+                                        args.timeout, args.repeat_below if timing else 0.0,
+                                        args.min_time)
+    if not timing:
+        args = argparse.Namespace(**dict(vars(args), repeat_below=0.0))
+    return run_siconos(spec, scheme, libs, args, workdir)
+
+
 def siconos_rows(model, ref, example, spec, libs, args, workdir):
     rows = []
+    window = reference_window(model, ref)
     base = example.SCHEME
     settings = []
     if base["kind"] == "ED":
@@ -532,27 +677,18 @@ def siconos_rows(model, ref, example, spec, libs, args, workdir):
             settings.append((label, s))
     for label, scheme in settings:
         row = {"tool": "Siconos", "setting": label, "scheme": scheme}
-        if scheme.get("osi") == "D1MinusLinearOSI":
-            if isinstance(args.d1minus_runner, Exception) or args.d1minus_runner is None:
-                if args.d1minus_runner is None:
-                    try:
-                        args.d1minus_runner = siconos_side.compile_d1minus_runner(args.build_dir)
-                    except Exception as err:
-                        args.d1minus_runner = err
-                if isinstance(args.d1minus_runner, Exception):
-                    row.update({"status": "not run", "outcome": "not run", "metrics": {},
-                                "note": f"not run: {args.d1minus_runner}"})
-                    rows.append(row)
-                    continue
-            run = siconos_side.run_d1minus(args.d1minus_runner, spec, scheme, libs, workdir,
-                                           args.timeout, args.repeat_below, args.min_time)
-        else:
-            run = run_siconos(spec, scheme, libs, args, workdir)
+        run = run_scheme(spec, scheme, libs, args, workdir)
+        if run["status"] == "not run":
+            row.update({"status": "not run", "outcome": "not run", "metrics": {},
+                        "note": f"not run: {run['reason']}"})
+            rows.append(row)
+            continue
         events = run.get("events") or []
         if scheme["kind"] == "ED":
             evs = [{"t": e["t"], "q": join_state(spec, model, e["q"]),
                     "v_before": join_state(spec, model, e["v_before"]),
-                    "v_after": join_state(spec, model, e["v_after"])}
+                    "v_after": join_state(spec, model, e["v_after"]),
+                    "impulsed": [k for k, x in e["impulse"].items() if x > 0]}
                    for e in events if any(x > 0 for x in e["impulse"].values())]
             impacts = impacts_event_driven(model, evs)
         else:
@@ -561,9 +697,22 @@ def siconos_rows(model, ref, example, spec, libs, args, workdir):
         if run.get("final"):
             final = {"t": run["final"]["t"], "q": join_state(spec, model, run["final"]["q"]),
                      "q_dot": join_state(spec, model, run["final"]["q_dot"])}
-        row["metrics"] = metrics(model, ref, impacts, final,
-                                 siconos_zeno(model, spec, scheme, run, impacts, ref),
-                                 final_dt=scheme["h"] if scheme["kind"] == "TS" else 0.0)
+        compared, end_run = final, run
+        if window is not None and run["status"] == "finished":
+            # the state at the end of the reference's window: a run to that time
+            end_run = run_scheme(dict(spec, t_end=window), scheme, libs, args, workdir,
+                                 timing=False)
+            compared = None
+            if end_run.get("status") == "finished" and end_run.get("final"):
+                compared = {"t": end_run["final"]["t"],
+                            "q": join_state(spec, model, end_run["final"]["q"]),
+                            "q_dot": join_state(spec, model, end_run["final"]["q_dot"])}
+            row["window_run"] = {"status": end_run.get("status"),
+                                 "reason": end_run.get("reason"), "final": compared}
+        row["metrics"] = metrics(model, ref, impacts, compared,
+                                 siconos_zeno(model, spec, scheme, run, impacts, ref, end_run),
+                                 final_dt=scheme["h"] if scheme["kind"] == "TS" else 0.0,
+                                 window=window, liftoffs=siconos_liftoffs(model, run))
         row.update({"status": run["status"], "reason": run.get("reason"), "final": final,
                     "ns_events": run.get("ns_events"), "steps": run.get("steps"),
                     "newton_iterations": run.get("newton_iterations"),
@@ -595,9 +744,14 @@ def table(results):
     lines.append("# zenosim and Siconos on Siconos's impact examples")
     lines.append("")
     lines.append(f"- date: {results['date']}")
+    load = (f"load average before the runs {results['load_before']}, after "
+            f"{results['load_after']}")
+    if results.get("load_after_peer"):
+        load = (f"load average (1, 5, 15 min) before the runs {results['load_before']}, after "
+                f"the examples {results['load_after']}, after the peer models (Part 2) "
+                f"{results['load_after_peer']}")
     lines.append(f"- machine: {m['cpu']}, {m['cores']} cores; {m['os']}; Python {m['python']}; "
-                 f"load average before the runs {results['load_before']}, after "
-                 f"{results['load_after']}")
+                 + load)
     sv = results["siconos"]["version"]
     lines.append(f"- Siconos: Debian python3-siconos {sv.get('debian_package')} (its Python "
                  f"module says {sv.get('python_module')}); examples from siconos-tutorials "
@@ -620,9 +774,13 @@ def table(results):
                  "|t − t_ref| over the impacts matched with the reference's (per contact, the "
                  f"k-th with the k-th; n of them), then over the first {FIRST_IMPACTS}. Zeno: "
                  "|t − t_ref| per Zeno point of the reference (zenosim: its t_zeno; Siconos: "
-                 "its last impact there, if it ends with that contact closed). Final: max-norm "
-                 "error of (q, q̇) at t_end. Wall: median of repeated in-process runs. README.md "
-                 "says how each is computed.")
+                 "its last impact there, if the contact is closed after it: at the end, or "
+                 "half-way to the reference's lift-off). Final: max-norm error of (q, q̇) at "
+                 "t_end; where the reference stops earlier (a window: the slider-cranks), at "
+                 "its end, from a run to that time, and only the impacts and lift-offs in the "
+                 "window are matched; where it has only the state the motion ends in (rest), "
+                 "against that. Wall: median of repeated in-process runs. README.md says how "
+                 "each is computed.")
     for name in results["examples"]:
         ex = results["results"][name]
         lines.append("")
@@ -637,12 +795,18 @@ def table(results):
             lines.append(f"Not run: {ex['error']}")
             continue
         zr = ex["reference_summary"]
+        ending = (f"final state at t = {zr['final_t']:g}" if zr["final_t"] is not None
+                  else "no state at t_end, the state the motion ends in (rest)"
+                  if zr.get("rest") else "no final state")
         lines.append(f"Reference: {zr['impacts']} impacts, Zeno points "
-                     f"{zr['zeno'] or 'none'}, final state at t = {zr['final_t']}.")
+                     f"{zr['zeno'] or 'none'}"
+                     + (f", lift-offs {zr['liftoffs']}" if zr.get("liftoffs") else "")
+                     + f", {ending}.")
         lines.append("")
+        lifts = bool((ex.get("reference") or {}).get("liftoffs"))
         head = ["tool", "setting", "outcome", "impacts",
-                f"impact t: max abs err (n); first {FIRST_IMPACTS}", "Zeno err", "final err",
-                "wall (ms)"]
+                f"impact t: max abs err (n); first {FIRST_IMPACTS}", "Zeno err"] \
+            + (["lift-off err (n)"] if lifts else []) + ["final err", "wall (ms)"]
         lines.append("| " + " | ".join(head) + " |")
         lines.append("|" + "---|" * len(head))
         for row in ex["rows"]:
@@ -654,6 +818,12 @@ def table(results):
             imp = ("–" if not mt else f"{mt.get('impacts', 0)}"
                    + (f" ({', '.join(f'{k} {v}' for k, v in per.items())})" if len(per) > 1
                       else ""))
+            if mt.get("window") is not None:
+                per = mt.get("impacts_in_window_per_contact") or {}
+                imp = (f"{mt.get('impacts', 0)}; to {mt['window']:g}: "
+                       f"{mt.get('impacts_in_window', 0)}"
+                       + (f" ({', '.join(f'{k} {v}' for k, v in per.items())})" if len(per) > 1
+                          else ""))
             err = mt.get("impact_time_max_error")
             errs = (f"{fmt(err)} ({mt.get('impacts_matched', 0)}); "
                     f"{fmt(mt.get('impact_time_max_error_first'))}" if err is not None else "–")
@@ -661,9 +831,15 @@ def table(results):
             wall_s = f"{wall * 1e3:.3g}" if isinstance(wall, (int, float)) else "–"
             if (row.get("timing") or {}).get("limit_hit"):
                 wall_s = f"> {results['timeout_s'] * 1e3:g}"
+            final = fmt(mt.get("final_state_error"))
+            if mt.get("rest_state_error") is not None:
+                final = f"{fmt(mt['rest_state_error'])} (rest)"
+            lift = []
+            if lifts:
+                lift = ["–" if mt.get("liftoff_max_error") is None else
+                        f"{fmt(mt['liftoff_max_error'])} ({len(mt.get('liftoff_errors') or [])})"]
             lines.append("| " + " | ".join([row["tool"], row["setting"], row["outcome"], imp,
-                                            errs, zeno, fmt(mt.get("final_state_error")),
-                                            wall_s]) + " |")
+                                            errs, zeno] + lift + [final, wall_s]) + " |")
         notes = [r for r in ex["rows"] if r.get("note")]
         if notes:
             lines.append("")
@@ -679,8 +855,57 @@ def table(results):
 def reference_summary(ref):
     zeno = ", ".join(f"{'+'.join(z.get('constraints') or z.get('contacts') or [])} "
                      f"{z['t']:.10g}" for z in ref.get("zeno") or [])
-    return {"impacts": len(ref.get("impacts") or []), "zeno": zeno,
-            "final_t": (ref.get("final") or {}).get("t")}
+    lifts = ", ".join(f"{'+'.join(z.get('constraints') or z.get('contacts') or [])} "
+                      f"{z['t']:.10g}" for z in ref.get("liftoffs") or [])
+    return {"impacts": len(ref.get("impacts") or []), "zeno": zeno, "liftoffs": lifts,
+            "final_t": (ref.get("final") or {}).get("t"), "rest": bool(ref.get("rest"))}
+
+
+# Lists of one record per impact (or lift-off), stored by column: {"contact": [...], "k": [...],
+# "t": [...], ...}, the i-th record being the i-th entry of each column.
+COLUMNAR = ("impact_errors", "liftoff_errors")
+# A value whose JSON is at most this long is written on one line.
+LINE = 120
+
+
+def by_columns(x):
+    """x with every list under a COLUMNAR key, if it is a list of records with the same keys,
+    stored by column (every number kept; a list already stored so is left as it is)."""
+    if isinstance(x, dict):
+        out = {}
+        for k, v in x.items():
+            if (k in COLUMNAR and isinstance(v, list) and v and all(isinstance(r, dict) for r in v)
+                    and all(list(r) == list(v[0]) for r in v)):
+                out[k] = {c: [r[c] for r in v] for c in v[0]}
+            else:
+                out[k] = by_columns(v)
+        return out
+    if isinstance(x, list):
+        return [by_columns(v) for v in x]
+    return x
+
+
+def json_text(x, depth=0):
+    """Compact JSON with line breaks: a value that fits in LINE characters, or a list of
+    numbers and strings, on one line; otherwise one key (or item) per line."""
+    flat = json.dumps(x, separators=(",", ":"), ensure_ascii=False, default=str)
+    if len(flat) <= LINE or not isinstance(x, (dict, list)) or not x:
+        return flat
+    if isinstance(x, list) and not any(isinstance(v, (dict, list)) for v in x):
+        return flat
+    pad = " " * (depth + 1)
+    if isinstance(x, dict):
+        items = [pad + json.dumps(str(k), ensure_ascii=False) + ":" + json_text(v, depth + 1)
+                 for k, v in x.items()]
+        return "{\n" + ",\n".join(items) + "\n" + " " * depth + "}"
+    items = [pad + json_text(v, depth + 1) for v in x]
+    return "[\n" + ",\n".join(items) + "\n" + " " * depth + "]"
+
+
+def write_json(results, path):
+    with open(path, "w") as f:
+        f.write(json_text(by_columns(results)))
+        f.write("\n")
 
 
 def load_avg():
@@ -707,9 +932,7 @@ def render(path, out):
                                                          "# Part 2: zenosim against", 1)
     with open(os.path.join(out, "results.md"), "w") as f:
         f.write(md)
-    with open(path, "w") as f:
-        json.dump(results, f, indent=1, default=str)
-        f.write("\n")
+    write_json(results, path)
     log(f"suite: wrote {os.path.join(out, 'results.md')}")
     return 0
 
@@ -784,7 +1007,8 @@ def main():
             ex["reference_method"] = ref.get("method")
             ex["reference_summary"] = reference_summary(ref)
             ex["reference"] = {k: ref.get(k) for k in ("example", "commit", "model", "method",
-                                                      "accuracy", "notes", "final", "zeno")}
+                                                      "accuracy", "notes", "final", "zeno",
+                                                      "liftoffs", "rest")}
             try:
                 spec = example.spec(model)
                 spec["name"] = name
@@ -812,9 +1036,7 @@ def main():
             old.setdefault("updates", []).append(
                 {"example": name, "date": results["date"], "load_before": results["load_before"],
                  "load_after": results["load_after"], "zenosim": results["zenosim"]})
-        with open(os.path.join(args.out, "results.json"), "w") as f:
-            json.dump(old, f, indent=1, default=str)
-            f.write("\n")
+        write_json(old, os.path.join(args.out, "results.json"))
         return render(os.path.join(args.out, "results.json"), args.out)
     md = table(results)
     if not args.no_peer:
@@ -825,14 +1047,14 @@ def main():
             no_zenosim=args.no_zenosim, out=None, child=None)
         peer_results = peer.run_all(peer_args)
         results["peer"] = peer_results
+        results["load_after_peer"] = load_avg()
+        md = table(results)
         md += "\n" + peer.table(peer_results).replace("# zenosim against", "# Part 2: zenosim against", 1)
     print(md)
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.out, "results.md"), "w") as f:
         f.write(md)
-    with open(os.path.join(args.out, "results.json"), "w") as f:
-        json.dump(results, f, indent=1, default=str)
-        f.write("\n")
+    write_json(results, os.path.join(args.out, "results.json"))
     log(f"suite: wrote {os.path.join(args.out, 'results.md')} and results.json")
     return 0
 
