@@ -21,10 +21,9 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     ) -> Result<Next, Error> {
         let (t0, t1) = (self.stepper.t_previous(), self.stepper.t());
         let n = self.n;
-        // Another constraint reached while these hold: an impact on all of them.
-        if let Some((other, t)) = self.earliest_crossing(t0, t1, held)? {
-            return self.reached_while_held(other, t);
-        }
+        // Another constraint reached while these hold: an impact on all of them, unless a held
+        // contact lets go or changes its friction state before (below).
+        let reached = self.earliest_crossing(t0, t1, held)?;
         // Lift-off: a constraint lets go where it would have to pull (λ above its rounding
         // error; a contact without force holds), reported on the side where it pulls, where
         // the motion without it is admissible. The margin is sampled on the dense output as it
@@ -32,8 +31,9 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         // middle do not rule a crossing out.
         let margin_start = self.margin_start;
         let margin_end = match end {
-            Some(normal) => normal.lift_margin(),
-            None => {
+            // (With friction the margin is the friction states' too.)
+            Some(normal) if !self.mech.frictional(held) => normal.lift_margin(),
+            _ => {
                 let end = self.stepper.y().to_vec();
                 self.margin_of(held, t1, &end)?
             }
@@ -62,6 +62,11 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             crossing
         };
         self.margin_start = margin_end;
+        if let Some((other, t)) = reached {
+            if crossing.as_ref().is_none_or(|c| c.t_violating > t) {
+                return self.reached_while_held(other, t);
+            }
+        }
         if let Some(c) = crossing {
             let t = c.t_violating;
             self.emit_grid_before(t)?;
