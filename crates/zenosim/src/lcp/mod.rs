@@ -58,7 +58,9 @@
 //!
 //! If the first method's answer fails the check, the other one is tried (Lemke after the
 //! active-set method; the active-set method after Lemke when `m`'s Cholesky factorisation runs
-//! through at all); if neither gives an answer, the failure is the solver's,
+//! through at all); for `k ≤ 12` then every complementary basis is tried (module `bases`: a
+//! matrix that is not copositive-plus, such as the contact problem with friction, can end
+//! Lemke's method on a ray that proves nothing); if none gives an answer, the failure is the solver's,
 //! [`LcpError::Failed`], and says how far from singular `m` is ([`Conditioning`]).
 //!
 //! # Numerics
@@ -75,6 +77,7 @@
 //! to `k ≈ 64` are meant; larger ones work, but slowly.
 
 mod active_set;
+mod bases;
 mod check;
 mod lemke;
 
@@ -361,6 +364,16 @@ fn solve_with_limit(
             Err(stop) => stop,
         };
         first_stop.get_or_insert(stop);
+    }
+    // The last resort for small problems: every complementary basis (module `bases`), where
+    // their number is within the limit on the pivots.
+    let enumerable = k <= bases::MAX_SIZE && (1usize << k) <= limit;
+    if let Some((zs, worst)) = enumerable.then(|| bases::solve(&ms, &qs)).flatten() {
+        if worst <= ACCEPTANCE {
+            if let Some(solution) = unscale(zs)? {
+                return Ok(solution);
+            }
+        }
     }
     Err(LcpError::Failed {
         stop: first_stop.unwrap_or(Stop::Inaccurate),
