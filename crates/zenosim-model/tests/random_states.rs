@@ -1031,9 +1031,10 @@ fn check_model(file_name: &str) {
 }
 
 /// The shipped models with friction (docs/friction.md).
-const FRICTIONAL: [&str; 4] = [
+const FRICTIONAL: [&str; 5] = [
     "ball-backspin.toml",
     "belt-stick-slip.toml",
+    "housner-block.toml",
     "painleve-rod.toml",
     "rough-incline.toml",
 ];

@@ -707,7 +707,8 @@ pub(crate) fn margins<L: HybridLagrangian>(
 /// contact force is `−Aᵢᵀλᵢ`), each with its constraint's index and `∂ₜhᵢ`, in the set's order.
 /// One constraint: `λ = ḧ_free/(A M⁻¹ Aᵀ)` from its mechanics. `w` is scratch of the model's
 /// dimension. With friction (in the states `grips`), `each` also has each contact's tangential
-/// force `fₜ` and slip `s` (0 and 0 without friction).
+/// force `fₜ`, slip `s` and the slip's part `s₀ = s − S q̇` that the surface's own motion gives
+/// (0, 0 and 0 without friction).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn multipliers<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
@@ -717,14 +718,17 @@ pub(crate) fn multipliers<L: HybridLagrangian>(
     q: &[f64],
     q_dot: &[f64],
     w: &mut [f64],
-    mut each: impl FnMut(usize, f64, f64, f64, f64),
+    mut each: impl FnMut(usize, f64, f64, f64, f64, f64),
 ) -> Result<(), DynamicsError> {
     let n = q.len();
     if mech.frictional(set) {
         let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
         let forces = frame.forces(set, grips)?;
         for p in 0..frame.len() {
-            let s = frame.tangents[p].as_ref().map_or(0.0, |t| t.slip.s);
+            let (s, s0) = frame.tangents[p].as_ref().map_or((0.0, 0.0), |t| {
+                let moving: f64 = t.slip.row.iter().zip(q_dot).map(|(a, v)| a * v).sum();
+                (t.slip.s, t.slip.s - moving)
+            });
             let normal = &frame.normals[p];
             each(
                 frame.indices[p],
@@ -732,13 +736,14 @@ pub(crate) fn multipliers<L: HybridLagrangian>(
                 normal.h_t,
                 forces.tangent[p],
                 s,
+                s0,
             );
         }
         return Ok(());
     }
     if let Some(index) = set.only() {
         let normal = mech.normal(index, t, q, q_dot, w)?;
-        each(index, normal.lambda(), normal.h_t, 0.0, 0.0);
+        each(index, normal.lambda(), normal.h_t, 0.0, 0.0, 0.0);
         return Ok(());
     }
     if set.is_empty() {
@@ -752,7 +757,7 @@ pub(crate) fn multipliers<L: HybridLagrangian>(
         .zip(hold.lambda)
         .zip(&contacts.normals)
     {
-        each(index, lambda, normal.h_t, 0.0, 0.0);
+        each(index, lambda, normal.h_t, 0.0, 0.0, 0.0);
     }
     Ok(())
 }
@@ -779,7 +784,7 @@ pub(crate) fn project_onto<L: HybridLagrangian>(
         return Ok(());
     }
     let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
-    frame.stop_slip(set, stick, q_dot)
+    frame.stop_slip(set, stick, q_dot).map(|_| ())
 }
 
 /// The contacts of `set` that slip in the states `grips` and whose slip has reached 0 at
@@ -837,6 +842,22 @@ pub(crate) fn unwind_slip<L: HybridLagrangian>(
         frame.unwind_slip(set, grips, duration, q_dot)?;
     }
     project_onto(mech, set, grips, t, n, y)
+}
+
+/// At a Zeno point onto `set` at `y = (q, q̇)`, `duration` before it: every contact stopped,
+/// normal and tangential velocities, where the impulses that takes are within the static cones
+/// ([`Frame::stick_all`]); whether it was done.
+pub(crate) fn stick_all<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    t: f64,
+    n: usize,
+    y: &mut [f64],
+    duration: f64,
+) -> Result<bool, DynamicsError> {
+    let (q, q_dot) = y.split_at_mut(n);
+    let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+    frame.stick_all(set, duration, q_dot)
 }
 
 /// The scales of the margins of the contacts held in `set` in the friction states `grips` at

@@ -81,13 +81,49 @@ pub(crate) struct Tangent {
     pub s_dot_free: f64,
     /// The rounding error of `ṡ_free`.
     pub s_dot_round_off: f64,
+    /// The slip speed below which the contact is at rest ([`Mechanics::slip_floor`]).
+    floor: f64,
 }
 
 impl Tangent {
-    /// Whether the contact's slip is 0 to its rounding.
+    /// Whether the contact's slip is 0: to its rounding, or below the run's floor.
     pub fn at_rest(&self) -> bool {
-        self.slip.s.abs() <= ROUND_OFF * self.slip.scale
+        self.slip.s.abs() <= (ROUND_OFF * self.slip.scale).max(self.floor)
     }
+}
+
+/// The LCP's failure on `set`: "no solution" (proven) is Painlevé's paradox; a failure of the
+/// solver is the solver's, not the model's.
+fn lcp_error(set: ActiveSet, error: lcp::LcpError) -> DynamicsError {
+    match error {
+        lcp::LcpError::NonFinite => DynamicsError::NonFinite,
+        lcp::LcpError::NoSolution => paradox(set),
+        lcp::LcpError::Failed { stop, conditioning } => DynamicsError::ContactSolver {
+            constraints: set,
+            stop,
+            conditioning,
+        },
+    }
+}
+
+/// `x` with `g x = rhs` for a square `g` that may be singular where contacts are dependent
+/// (two corners of a block on one floor slip along the same direction: their sticking rows
+/// are equal): the least-squares solution of least norm (singular values below `1e-12` of
+/// the largest dropped), accepted where it solves the system to `1e-9` of its scale; `None`
+/// where the system is inconsistent or not finite.
+fn solve_least_norm(g: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVector<f64>> {
+    if rhs.is_empty() {
+        return Some(DVector::zeros(0));
+    }
+    let svd = g.clone().svd(true, true);
+    let largest = svd.singular_values.max();
+    if !largest.is_finite() {
+        return None;
+    }
+    let x = svd.solve(rhs, 1e-12 * largest).ok()?;
+    let residual = (g * &x - rhs).amax();
+    let scale = rhs.amax() + g.abs().column_sum().amax() * x.amax();
+    (x.iter().all(|v| v.is_finite()) && residual <= 1e-9 * scale).then_some(x)
 }
 
 /// Why the contact problem with friction has no answer.
@@ -183,26 +219,31 @@ impl Frame {
                 .map_err(|e| (e, index))?;
             frame.normals.push(normal);
             mech.constraint_gradient(index, t, q, &mut frame.rows[p * n..(p + 1) * n]);
-            let tangent = model.constraints()[index].friction.map(|friction| {
-                let slip = slip(model, index, t, q, q_dot);
-                let direction = factor.solve(&DVector::from_column_slice(&slip.row));
-                let direction: Vec<f64> = direction.iter().copied().collect();
-                let along: f64 = dot(&slip.row, &frame.acc_free);
-                let terms: f64 = slip
-                    .row
-                    .iter()
-                    .zip(&frame.acc_free)
-                    .map(|(a, x)| (a * x).abs())
-                    .sum();
-                Tangent {
-                    mu_static: friction.static_coefficient,
-                    mu_kinetic: friction.kinetic_coefficient,
-                    s_dot_free: along + slip.sigma,
-                    s_dot_round_off: ROUND_OFF * (terms + slip.sigma.abs()),
-                    slip,
-                    direction,
-                }
-            });
+            let frictional = mech.frictional(ActiveSet::single(index));
+            let tangent = model.constraints()[index]
+                .friction
+                .filter(|_| frictional)
+                .map(|friction| {
+                    let slip = slip(model, index, t, q, q_dot);
+                    let direction = factor.solve(&DVector::from_column_slice(&slip.row));
+                    let direction: Vec<f64> = direction.iter().copied().collect();
+                    let along: f64 = dot(&slip.row, &frame.acc_free);
+                    let terms: f64 = slip
+                        .row
+                        .iter()
+                        .zip(&frame.acc_free)
+                        .map(|(a, x)| (a * x).abs())
+                        .sum();
+                    Tangent {
+                        mu_static: friction.static_coefficient,
+                        mu_kinetic: friction.kinetic_coefficient,
+                        s_dot_free: along + slip.sigma,
+                        s_dot_round_off: ROUND_OFF * (terms + slip.sigma.abs()),
+                        floor: mech.slip_floor(),
+                        slip,
+                        direction,
+                    }
+                });
             frame.tangents.push(tangent);
         }
         Ok(frame)
@@ -287,10 +328,11 @@ impl Frame {
                     .map_or(0.0, |t| t.s_dot_free)
             };
         }
-        if !p_matrix(&g, k) {
-            return Err(paradox(set));
-        }
-        let x = g.lu().solve(&rhs).ok_or_else(|| paradox(set))?;
+        // The states are given: the forces solve a square system, which is singular only where
+        // the contacts are dependent (then the forces of least norm: the motion is the same for
+        // all that solve it). Whether the states are consistent, a normal force that pulls
+        // says (a margin), and law 1 decides again (`decide`, where Painlevé's paradox shows).
+        let x = solve_least_norm(&g, &rhs).ok_or_else(|| paradox(set))?;
         let mut q_ddot = self.acc_free.clone();
         for c in 0..size {
             for (a, col) in q_ddot.iter_mut().zip(&columns[c * n..(c + 1) * n]) {
@@ -338,7 +380,11 @@ impl Frame {
             largest = largest.max((-f - round) / scales[3 * p]);
             if let Some(t) = &self.tangents[p] {
                 if grips.stick.contains(index) {
-                    let beyond = forces.tangent[p].abs() - t.mu_static * f;
+                    // Beyond the cone by more than the rounding of the forces.
+                    let beyond = forces.tangent[p].abs()
+                        - t.mu_static * f
+                        - ROUND_OFF * (forces.tangent[p].abs() + t.mu_static * f.abs())
+                        - t.mu_static * round;
                     largest = largest.max(beyond / scales[3 * p + 1]);
                 } else {
                     let sign = grips.direction(index);
@@ -374,7 +420,11 @@ impl Frame {
             consider((-f - round) / scales[3 * p], 0);
             if let Some(t) = &self.tangents[p] {
                 if grips.stick.contains(index) {
-                    let beyond = forces.tangent[p].abs() - t.mu_static * f;
+                    // Beyond the cone by more than the rounding of the forces.
+                    let beyond = forces.tangent[p].abs()
+                        - t.mu_static * f
+                        - ROUND_OFF * (forces.tangent[p].abs() + t.mu_static * f.abs())
+                        - t.mu_static * round;
                     consider(beyond / scales[3 * p + 1], 1);
                 } else {
                     let sign = grips.direction(index);
@@ -445,6 +495,14 @@ impl Frame {
             .filter(|&p| self.tangents[p].as_ref().is_some_and(Tangent::at_rest))
             .collect();
         let m = candidates.len();
+        // Where every contact can hold, those at rest sticking and the others slipping on, in
+        // equilibrium (every normal force pushing, every sticking force within its static
+        // cone), that is law 1's answer: the contact problem with friction may have others
+        // (a block resting on two rough corners could also pivot on one, its friction
+        // lifting the other), and a run at rest must stay at rest.
+        if let Some(decision) = self.all_held(set, &candidates) {
+            return Ok(decision);
+        }
         let size = k + 2 * m;
         // The columns of the forces fₙ and a (M⁻¹ applied).
         let mut columns = vec![0.0; (k + m) * n];
@@ -497,10 +555,21 @@ impl Frame {
             matrix[r * size + p] = 2.0 * t.mu_static;
             matrix[r * size + (k + u)] = -1.0;
         }
-        let solution = lcp::solve(&matrix, &q).map_err(|e| match e {
-            lcp::LcpError::NonFinite => DynamicsError::NonFinite,
-            _ => paradox(set),
-        })?;
+        let round_off: Vec<f64> = (0..size)
+            .map(|r| {
+                if r < k {
+                    self.normals[r].h_ddot_round_off
+                } else if r < k + m {
+                    self.tangents[candidates[r - k]]
+                        .as_ref()
+                        .map_or(0.0, |t| t.s_dot_round_off)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let solution =
+            lcp::solve_rounded(&matrix, &q, &round_off).map_err(|e| lcp_error(set, e))?;
         let (z, w) = (&solution.z, &solution.w);
         let mut held = ActiveSet::empty();
         for p in 0..k {
@@ -536,15 +605,53 @@ impl Frame {
                     * (0..size)
                         .map(|c| (matrix[(k + u) * size + c] * z[c]).abs())
                         .sum::<f64>();
-            if backward > round {
+            // The slip's acceleration ṡ = ṡ⁺ − ṡ⁻ (both may be positive where no normal force
+            // bounds the tangential one).
+            let s_ddot = forward - backward;
+            if s_ddot < -round {
                 grips.backward = grips.backward.with(index);
-            } else if forward > round {
+            } else if s_ddot > round {
                 grips.forward = grips.forward.with(index);
             } else {
                 grips.stick = grips.stick.with(index);
             }
         }
         Ok(Decision { held, grips })
+    }
+
+    /// Every contact of `set` held, those of `candidates` (at rest) sticking, the others slipping
+    /// in their slip's direction, if that is consistent: every normal force pushes, and every
+    /// sticking force is within its static cone (to rounding). `None` otherwise.
+    fn all_held(&self, set: ActiveSet, candidates: &[usize]) -> Option<Decision> {
+        let mut grips = Grips::none();
+        for p in 0..self.len() {
+            let Some(t) = &self.tangents[p] else { continue };
+            let index = self.indices[p];
+            if candidates.contains(&p) {
+                grips.stick = grips.stick.with(index);
+            } else if t.slip.s > 0.0 {
+                grips.forward = grips.forward.with(index);
+            } else {
+                grips.backward = grips.backward.with(index);
+            }
+        }
+        let forces = self.forces(set, grips).ok()?;
+        for p in 0..self.len() {
+            let f = forces.normal[p];
+            let round = self.normals[p].h_ddot_round_off / self.normals[p].s + ROUND_OFF * f.abs();
+            if f < -round {
+                return None;
+            }
+            if let Some(t) = &self.tangents[p] {
+                if candidates.contains(&p)
+                    && forces.tangent[p].abs()
+                        > t.mu_static * f + ROUND_OFF * (f.abs() + forces.tangent[p].abs())
+                {
+                    return None;
+                }
+            }
+        }
+        Some(Decision { held: set, grips })
     }
 
     /// The impact law with friction on the frame's contacts (docs/friction.md): the generalized
@@ -572,11 +679,15 @@ impl Frame {
             };
         let mut after = before.clone();
         let (mut normal, mut tangent) = attempt(1.0, &mut after)?;
-        let gained = |after: &[f64]| {
-            let t_after = self.kinetic(after);
-            t_after - t_before > ROUND_OFF * (t_after.abs() + t_before.abs())
+        // The law creates energy where its own loss `−½ Σ Λₙ (ḣ⁺ + ḣ⁻) − ½ Σ Λₜ (s⁺ + s⁻)` is
+        // negative beyond rounding (what a surface that moves puts in is not the law's).
+        let gained = |result: &(Vec<f64>, Vec<f64>), after: &[f64]| {
+            let (loss, _) = self.loss_and_work(&result.0, &result.1, h_t, &before, after);
+            loss < -ROUND_OFF * (t_before + self.kinetic(after))
         };
-        if restitution.iter().any(|&e| e > 0.0) && gained(&after) {
+        if restitution.iter().any(|&e| e > 0.0)
+            && gained(&(normal.clone(), tangent.clone()), &after)
+        {
             // Bisection on the fraction of the restitutions: 0 never gains (docs/friction.md).
             let (mut low, mut high) = (0.0, 1.0);
             let mut best = attempt(0.0, &mut after)?;
@@ -584,7 +695,7 @@ impl Frame {
             for _ in 0..48 {
                 let mid = 0.5 * (low + high);
                 let result = attempt(mid, &mut after)?;
-                if gained(&after) {
+                if gained(&result, &after) {
                     high = mid;
                 } else {
                     low = mid;
@@ -596,27 +707,42 @@ impl Frame {
             after = best_after;
         }
         q_dot.copy_from_slice(&after);
-        // The law's loss and the impulses' work on moving surfaces, from the velocities.
-        let mut loss = 0.0;
-        let mut work = 0.0;
-        for p in 0..self.len() {
-            let h_before = dot(self.row(p), &before) + h_t[p];
-            let h_after = dot(self.row(p), &after) + h_t[p];
-            loss -= 0.5 * normal[p] * (h_after + h_before);
-            work -= normal[p] * h_t[p];
-            if let Some(t) = &self.tangents[p] {
-                let s0 = t.slip.s - dot(&t.slip.row, &before);
-                let s_before = t.slip.s;
-                let s_after = dot(&t.slip.row, &after) + s0;
-                loss -= 0.5 * tangent[p] * (s_after + s_before);
-            }
-        }
+        let (loss, work) = self.loss_and_work(&normal, &tangent, h_t, &before, &after);
         Ok(FrictionalImpact {
             normal,
             tangent,
             loss,
             work,
         })
+    }
+
+    /// An impact's loss `−½ Σ Λₙ (ḣ⁺ + ḣ⁻) − ½ Σ Λₜ (s⁺ + s⁻)` and its impulses' work on the
+    /// surfaces that move, `−Σ Λₙ ∂ₜh − Σ Λₜ s₀` (`s₀ = s − S q̇`: a belt's own velocity), from the
+    /// velocities before and after.
+    fn loss_and_work(
+        &self,
+        normal: &[f64],
+        tangent: &[f64],
+        h_t: &[f64],
+        before: &[f64],
+        after: &[f64],
+    ) -> (f64, f64) {
+        let mut loss = 0.0;
+        let mut work = 0.0;
+        for p in 0..self.len() {
+            let h_before = dot(self.row(p), before) + h_t[p];
+            let h_after = dot(self.row(p), after) + h_t[p];
+            loss -= 0.5 * normal[p] * (h_after + h_before);
+            work -= normal[p] * h_t[p];
+            if let Some(t) = &self.tangents[p] {
+                let s0 = t.slip.s - dot(&t.slip.row, before);
+                let s_before = t.slip.s;
+                let s_after = dot(&t.slip.row, after) + s0;
+                loss -= 0.5 * tangent[p] * (s_after + s_before);
+                work -= tangent[p] * s0;
+            }
+        }
+        (loss, work)
     }
 
     /// The plastic impact with friction (`e = 0`) on the frame's contacts, each taken to
@@ -652,7 +778,8 @@ impl Frame {
         let before = q_dot.to_vec();
         // Contacts fixed to slip at the kinetic coefficient, with their direction.
         let mut sliding: Vec<f64> = vec![0.0; k];
-        for _ in 0..4 {
+        // Each pass only moves contacts from the static cone to sliding: k + 1 passes suffice.
+        for _ in 0..=k {
             let candidates: Vec<usize> = (0..k)
                 .filter(|&p| self.tangents[p].is_some() && sliding[p] == 0.0)
                 .collect();
@@ -700,10 +827,28 @@ impl Frame {
                 matrix[r * size + p] = 2.0 * t.mu_static;
                 matrix[r * size + (k + u)] = -1.0;
             }
-            let solution = lcp::solve(&matrix, &q).map_err(|err| match err {
-                lcp::LcpError::NonFinite => DynamicsError::NonFinite,
-                _ => paradox(set),
-            })?;
+            // Each right-hand side within the rounding of the velocities it is made of is 0.
+            let round_off: Vec<f64> = (0..size)
+                .map(|r| {
+                    if r < k {
+                        let terms: f64 = self
+                            .row(r)
+                            .iter()
+                            .zip(&before)
+                            .map(|(a, v)| (a * v).abs())
+                            .sum();
+                        ROUND_OFF * (1.0 + e[r]) * (terms + approach[r].abs())
+                    } else if r < k + m {
+                        self.tangents[candidates[r - k]]
+                            .as_ref()
+                            .map_or(0.0, |t| ROUND_OFF * t.slip.scale)
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
+            let solution =
+                lcp::solve_rounded(&matrix, &q, &round_off).map_err(|err| lcp_error(set, err))?;
             let z = &solution.z;
             q_dot.copy_from_slice(&before);
             for c in 0..k + m {
@@ -718,6 +863,12 @@ impl Frame {
                 let Some(t) = &self.tangents[p] else { continue };
                 if sliding[p] != 0.0 {
                     tangent[p] = -t.mu_kinetic * sliding[p] * normal[p];
+                    // The slip it was fixed to must still run that way after the impact.
+                    let s0 = t.slip.s - dot(&t.slip.row, &before);
+                    let s_after = dot(&t.slip.row, q_dot) + s0;
+                    if sliding[p] * s_after < -ROUND_OFF * t.slip.scale {
+                        return Err(paradox(set));
+                    }
                     continue;
                 }
                 let u = candidates
@@ -731,7 +882,7 @@ impl Frame {
                 if t.mu_kinetic < t.mu_static && normal[p] > 0.0 && on_edge {
                     let s0 = t.slip.s - dot(&t.slip.row, &before);
                     let s_after = dot(&t.slip.row, q_dot) + s0;
-                    if s_after != 0.0 {
+                    if s_after.abs() > ROUND_OFF * t.slip.scale {
                         sliding[p] = s_after.signum();
                         changed = true;
                     }
@@ -746,6 +897,51 @@ impl Frame {
 }
 
 impl Frame {
+    /// At a Zeno point onto `set`, `duration` before it: the plastic projection that stops
+    /// every contact, normal and tangential velocities, if the impulses of the impacts not
+    /// taken can be that within the static cones. Those impacts last `duration`, over which
+    /// the contacts also carry the body (the forces `F` of the set held, every contact
+    /// sticking): each contact's impulse `Λ + F duration` must push and have its tangential
+    /// part within `μₛ` times its normal one, to rounding. The accumulated impacts then stick,
+    /// as each of them would (Housner's rocking block). `q̇` is changed only then; whether it
+    /// was is returned.
+    pub fn stick_all(
+        &self,
+        set: ActiveSet,
+        duration: f64,
+        q_dot: &mut [f64],
+    ) -> Result<bool, DynamicsError> {
+        let stick = (0..self.len())
+            .filter(|&p| self.tangents[p].is_some())
+            .fold(ActiveSet::empty(), |s, p| s.with(self.indices[p]));
+        let grips = Grips {
+            stick,
+            ..Grips::none()
+        };
+        let Ok(held) = self.forces(set, grips) else {
+            return Ok(false);
+        };
+        let mut trial = q_dot.to_vec();
+        let mu = self.stop_slip(set, stick, &mut trial)?;
+        let k = self.len();
+        let mut u = k;
+        for p in 0..k {
+            if -mu[p] + held.normal[p] * duration < -ROUND_OFF * mu[p].abs() {
+                return Ok(false);
+            }
+            let Some(t) = &self.tangents[p] else { continue };
+            let normal = -mu[p] + held.normal[p] * duration;
+            let tangent = -mu[u] + held.tangent[p] * duration;
+            u += 1;
+            let round = ROUND_OFF * (normal.abs() + tangent.abs());
+            if normal < -round || tangent.abs() > t.mu_static * normal.max(0.0) + round {
+                return Ok(false);
+            }
+        }
+        q_dot.copy_from_slice(&trial);
+        Ok(true)
+    }
+
     /// Takes back from `q̇` what the kinetic friction of the contacts slipping in `grips` will
     /// add over `duration` (`M⁻¹ Sᵀ fₜ` each): at a Zeno point the held motion starts at the
     /// switch, `duration` before the point, while the impacts not taken, whose tangential
@@ -785,13 +981,14 @@ impl Frame {
     /// The plastic projection of the velocities `q̇` (the frame's own) onto `ḣ = 0` on every
     /// contact of `set` and `s = 0` on those of `stick`, jointly: `W μ = (ḣ, s)`,
     /// `q̇ ← q̇ − M⁻¹ Bᵀ μ` with `B` the rows `Aᵢ` and `Sⱼ` (it keeps every momentum they do not
-    /// touch).
+    /// touch). Returns `μ`: minus the impulses, normal ones first (the set's order), then the
+    /// sticking contacts' tangential ones.
     pub fn stop_slip(
         &self,
         set: ActiveSet,
         stick: ActiveSet,
         q_dot: &mut [f64],
-    ) -> Result<(), DynamicsError> {
+    ) -> Result<Vec<f64>, DynamicsError> {
         let n = self.n;
         let k = self.len();
         let sticking: Vec<usize> = (0..k)
@@ -831,32 +1028,16 @@ impl Frame {
                     .s
             }
         });
-        let mu = w.lu().solve(&rhs).ok_or_else(|| paradox(set))?;
+        let mu = solve_least_norm(&w, &rhs).ok_or_else(|| paradox(set))?;
         for r in 0..size {
             for (v, d) in q_dot.iter_mut().zip(direction(r)) {
                 *v -= mu[r] * d;
             }
         }
         if q_dot.iter().all(|v| v.is_finite()) && q_dot.len() == n {
-            Ok(())
+            Ok(mu.iter().copied().collect())
         } else {
             Err(DynamicsError::NonFinite)
         }
     }
-}
-
-/// Whether the square matrix `g`'s leading block of the normal forces (its first `k` rows and
-/// columns) has every principal minor positive (a P-matrix: law 1's normal forces are unique
-/// and exist for every right-hand side); checked by elimination on each principal submatrix
-/// for up to 12 contacts, beyond which only the diagonal is checked.
-fn p_matrix(g: &DMatrix<f64>, k: usize) -> bool {
-    if k > 12 {
-        return (0..k).all(|i| g[(i, i)] > 0.0);
-    }
-    (1u32..(1 << k)).all(|mask| {
-        let rows: Vec<usize> = (0..k).filter(|&i| mask & (1 << i) != 0).collect();
-        let size = rows.len();
-        let sub = DMatrix::from_fn(size, size, |r, c| g[(rows[r], rows[c])]);
-        sub.determinant() > 0.0
-    })
 }

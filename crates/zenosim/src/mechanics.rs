@@ -220,6 +220,9 @@ pub(crate) struct Mechanics<'a, L> {
     n: usize,
     /// The constraints with friction (docs/friction.md).
     frictional: ActiveSet,
+    /// The slip speed below which a contact is at rest (the integration's absolute tolerance:
+    /// [`Mechanics::with_slip_floor`]); 0 by default.
+    slip_floor: f64,
 }
 
 impl<L> Clone for Mechanics<'_, L> {
@@ -237,13 +240,33 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             .constraints()
             .iter()
             .enumerate()
-            .filter(|(i, c)| c.friction.is_some() && *i < ActiveSet::CAPACITY)
+            // A coefficient of 0 is no friction: such a contact is frictionless.
+            .filter(|(i, c)| {
+                c.friction
+                    .is_some_and(|f| f.static_coefficient > 0.0 || f.kinetic_coefficient > 0.0)
+                    && *i < ActiveSet::CAPACITY
+            })
             .fold(ActiveSet::empty(), |set, (i, _)| set.with(i));
         Self {
             model,
             n: model.dimension(),
             frictional,
+            slip_floor: 0.0,
         }
+    }
+
+    /// These mechanics with slips of at most `floor` taken as rest (a run's absolute
+    /// tolerance: a slip that small is 0 to the integration's accuracy, and at rest its terms
+    /// are all noise, so that rounding alone cannot tell; docs/friction.md).
+    pub fn with_slip_floor(mut self, floor: f64) -> Self {
+        self.slip_floor = floor;
+        self
+    }
+
+    /// The slip speed below which a contact is at rest ([`Mechanics::with_slip_floor`]).
+    #[inline]
+    pub fn slip_floor(&self) -> f64 {
+        self.slip_floor
     }
 
     /// Whether any constraint of `set` has friction.

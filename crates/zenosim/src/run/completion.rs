@@ -259,9 +259,15 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             self.sim.model.completion_map_at(only, t, q, q_dot);
         }
         if self.mech.frictional(set) {
-            // The tangential impulses of the impacts not taken (docs/friction.md, Zeno points).
-            self.remaining_friction(index, set, t, &mut after, prediction)
+            // The impacts not taken stick where the cones allow stopping every contact at once;
+            // else their tangential impulses are applied (docs/friction.md, Zeno points).
+            let remaining = prediction.map_or(0.0, |p| p.remaining);
+            let stuck = contact::stick_all(&self.mech, set, t, n, &mut after, remaining)
                 .map_err(|err| self.fail_dynamics(err, t, &before))?;
+            if !stuck {
+                self.remaining_friction(index, set, t, &mut after, prediction)
+                    .map_err(|err| self.fail_dynamics(err, t, &before))?;
+            }
         }
         contact::project_onto(&self.mech, set, Grips::none(), t, n, &mut after)
             .map_err(|err| self.fail_dynamics(err, t, &before))?;
@@ -272,7 +278,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             contact::project_onto(&self.mech, set, grips, t, n, &mut after)
                 .map_err(|err| self.fail_dynamics(err, t, &before))?;
         }
-        if let Some(p) = prediction.filter(|_| self.mech.frictional(held)) {
+        // (Only where every contact holds on: the slipping then goes on over that time.)
+        if let Some(p) = prediction.filter(|_| self.mech.frictional(held) && held == set) {
             contact::unwind_slip(&self.mech, held, grips, t, n, &mut after, p.remaining)
                 .map_err(|err| self.fail_dynamics(err, t, &before))?;
         }

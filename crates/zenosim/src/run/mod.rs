@@ -125,7 +125,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         y.extend_from_slice(&sim.q_dot0);
         Self {
             sim,
-            mech: Mechanics::new(sim.model),
+            mech: Mechanics::new(sim.model).with_slip_floor(sim.options.tolerances.atol),
             stepper: Stepper::new(options.method, 2 * n, options.tolerances),
             n,
             mode: Mode::Free,

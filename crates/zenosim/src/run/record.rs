@@ -262,7 +262,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 q,
                 q_dot,
                 &mut w,
-                |i, l, _, f, _| {
+                |i, l, _, f, _, _| {
                     lambda[i] = l;
                     friction[i] = f;
                 },

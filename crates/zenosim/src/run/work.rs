@@ -70,7 +70,8 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     /// at a slipping contact.
     #[inline]
     fn powered(&self) -> bool {
-        !self.sim.model.is_autonomous() || !self.grips.slipping().is_empty()
+        // (A contact held with friction may ride a surface that moves, sticking or slipping.)
+        !self.sim.model.is_autonomous() || !self.grips.all().is_empty()
     }
 
     /// `∫ (Q·q̇, −∂ₜL, −Σλᵢ Aᵢq̇, Σ fₜ,ᵢ sᵢ) dt` from `t0` to `t1` on the last step's dense output, in the
@@ -129,10 +130,11 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         Ok(sum)
     }
 
-    /// The powers `(Q·q̇, −∂ₜL, −Σλᵢ Aᵢq̇, Σ fₜ,ᵢ sᵢ)` at `(t, y)` in the current mode; on the
-    /// held constraints, where `ḣᵢ = 0`, `−λᵢ Aᵢq̇ = λᵢ ∂ₜhᵢ`: exactly 0 on a surface that does
-    /// not move (`−λ A q̇` would be the rounding of `A q̇`); friction's power is that of the
-    /// slipping contacts (a sticking one has `s = 0`).
+    /// The powers `(Q·q̇, −∂ₜL, −Σλᵢ Aᵢq̇ − Σ fₜ,ᵢ s₀,ᵢ, Σ fₜ,ᵢ sᵢ)` at `(t, y)` in the current
+    /// mode; on the held constraints, where `ḣᵢ = 0`, `−λᵢ Aᵢq̇ = λᵢ ∂ₜhᵢ`: exactly 0 on a
+    /// surface that does not move (`−λ A q̇` would be the rounding of `A q̇`); friction's power
+    /// is that of the slipping contacts (a sticking one has `s = 0`), and what a moving surface
+    /// does through it (`s₀`, the slip's part of the surface's own velocity) is the surface's.
     fn power(&mut self, t: f64, y: &[f64]) -> Result<[f64; 4], DynamicsError> {
         let (q, q_dot) = y.split_at(self.n);
         let (forces, drive) = if self.sim.model.is_autonomous() {
@@ -154,8 +156,11 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             q,
             q_dot,
             &mut w,
-            |i, l, h_t, f, s| {
-                constraints = Some(constraints.unwrap_or(-0.0) + l * h_t);
+            |i, l, h_t, f, s, s0| {
+                // A surface that moves under a contact with friction (a belt) works on the body
+                // through fₜ too: `fₜ S q̇ = fₜ s − fₜ s₀`, the second part its own.
+                let surface = if s0 != 0.0 { f * s0 } else { 0.0 };
+                constraints = Some(constraints.unwrap_or(-0.0) + l * h_t - surface);
                 if slipping.contains(i) {
                     friction += f * s;
                 }
