@@ -38,10 +38,10 @@ def spec(model):
 
 
 DISCUSSION = """With the velocity-level scheme's parameters the slider has one Zeno point in the window
-(the pair g1+g2, 13 impacts each, ratio 0.4) and one lift-off. zenosim matches the 34 corner
-impacts in the window to 8.7e-8 s at 1e-6 and 3.8e-12 s at 1e-12, the Zeno time to 8.8e-8 and
-1.9e-12, the lift-off to 8.9e-10 and 3.1e-15, and the state at 0.03 to 2.5e-5 and 1.6e-11.
-D1Minus at the velocity level (Siconos) never holds the pair: it keeps re-striking it (72
-impacts in the window at the example's h = 1e-5, 230 at h = 2.5e-6, against the reference's
-24), so it has no Zeno point nor lift-off to compare; its state at 0.03 is within 2.3e-2 at
-h = 1e-5 and 8.1e-3 at 2.5e-6. Time: 8–20 ms against 657 ms at the example's step."""
+(the pair g1+g2, 13 impacts each, ratio 0.4) and lift-offs. zenosim matches the 34 corner
+impacts in the window to 1.2e-8 s at 1e-6 and 8.2e-13 s at 1e-12, the Zeno time to 1.9e-9 and
+4.9e-13, the lift-offs to 8.9e-10 and 3.1e-15, and the state at 0.03 to 2.5e-5 and 1.5e-11.
+D1Minus at the velocity level (Siconos) keeps re-striking the pair (72 impacts in the window
+at the example's h = 1e-5, 230 at h = 2.5e-6, against the reference's 24) before it holds it:
+its last impact is 2.1e-4 s from the Zeno time at h = 1e-5, 3.8e-5 s at 2.5e-6, and its state
+at 0.03 within 2.3e-2 and 8.1e-3. Time: 6–23 ms against 535 ms at the example's step."""
