@@ -35,7 +35,9 @@ pub enum Command {
 directory; characters of the name other than letters, digits, '-', '_' and '.' become '_'):
   trajectory.csv  t,mode,<q...>,<q_dot...>,h_<constraint>...,lambda_<constraint>...,energy: a row at
                   every accepted step (or every --dt) and the states just before and just after
-                  every event; numbers in shortest round-trip form
+                  every event; numbers in shortest round-trip form. With friction, f_<constraint>
+                  (the tangential force) before energy for each constraint with friction, and
+                  mode ends with ;stick:<names> and ;slip:<names> where held contacts stick or slip
   summary.json    the outcome, the final state, the Zeno points, the events, the hybrid time
                   domain, the work counters and the constraints' formulas h (non-finite numbers
                   are written as null)

@@ -3,8 +3,9 @@
 
 use std::io;
 
-use zenosim::{Event, Mode, Observer, Sample};
+use zenosim::{Event, Observer, Sample};
 use zenosim_runs::number::format_number;
+use zenosim_runs::summary::mode_label;
 
 use crate::output::Record;
 use crate::progress::Progress;
@@ -19,11 +20,14 @@ pub const WORK_COLUMNS: [&str; 4] = [
     "impact_loss",
 ];
 
-/// The header of `trajectory.csv`: `t,mode,<columns of (q, q̇)...>,h_<c>...,lambda_<c>...,energy`,
-/// then [`WORK_COLUMNS`] when `work`.
+/// The header of `trajectory.csv`:
+/// `t,mode,<columns of (q, q̇)...>,h_<c>...,lambda_<c>...,f_<c>...,energy`, with `f_<c>` (the
+/// tangential force) for each constraint of `friction` (those with friction, in the model's
+/// order; none for a frictionless model), then [`WORK_COLUMNS`] when `work`.
 pub fn header<'a>(
     columns: impl IntoIterator<Item = &'a String>,
     constraints: &[String],
+    friction: &[String],
     work: bool,
 ) -> Vec<String> {
     let work_columns = if work { &WORK_COLUMNS[..] } else { &[] };
@@ -33,6 +37,7 @@ pub fn header<'a>(
         .chain(columns.into_iter().cloned())
         .chain(constraints.iter().map(|c| format!("h_{c}")))
         .chain(constraints.iter().map(|c| format!("lambda_{c}")))
+        .chain(friction.iter().map(|c| format!("f_{c}")))
         .chain(std::iter::once("energy".to_string()))
         .chain(work_columns.iter().map(|c| c.to_string()))
         .collect()
@@ -66,6 +71,8 @@ pub struct TrajectoryWriter<W: io::Write> {
     progress: Progress,
     /// The constraints' names, for the held set in the `mode` column.
     constraints: Vec<String>,
+    /// The indices of the constraints with friction: a column `f_<name>` each.
+    friction: Vec<usize>,
     mode: String,
     /// Whether the rows end with [`WORK_COLUMNS`].
     work: bool,
@@ -82,15 +89,21 @@ pub struct Written<W> {
 }
 
 impl<W: io::Write> TrajectoryWriter<W> {
-    /// A writer of the columns `t,mode,<q...>,<q_dot...>,h_<c>...,lambda_<c>...,energy`, and
-    /// when `work` (a model that is not autonomous) the energy balance's [`WORK_COLUMNS`];
+    /// A writer of the columns `t,mode,<q...>,<q_dot...>,h_<c>...,lambda_<c>...,f_<c>...,energy`
+    /// ([`header`]; `f_<c>` for the constraints of `friction`, indices into `constraints`), and
+    /// when `work` (a model that is not autonomous) the energy balance's [`WORK_COLUMNS`].
     /// `mode` is `free`, or `constrained:` and the names of the constraints held, joined by `+`
-    /// (`constrained:floor+wall`). The rows stop at `max_bytes` (but for the final state).
+    /// (`constrained:floor+wall`), then, where held contacts stick or slip, `;stick:` and
+    /// `;slip:` and their names joined by `+`, each only where not empty
+    /// (`constrained:left+right;stick:left;slip:right`). The rows stop at `max_bytes` (but for
+    /// the final state).
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         out: W,
         coordinates: &[String],
         velocities: &[String],
         constraints: &[String],
+        friction: &[usize],
         work: bool,
         max_bytes: u64,
         progress: Progress,
@@ -109,10 +122,20 @@ impl<W: io::Write> TrajectoryWriter<W> {
             error: None,
             progress,
             constraints: constraints.to_vec(),
+            friction: friction.to_vec(),
             mode: String::new(),
             work,
         };
-        let header = header(coordinates.iter().chain(velocities), constraints, work);
+        let friction_names: Vec<String> = friction
+            .iter()
+            .map(|&i| constraints.get(i).map_or("?", String::as_str).to_string())
+            .collect();
+        let header = header(
+            coordinates.iter().chain(velocities),
+            constraints,
+            &friction_names,
+            work,
+        );
         // The header is written whatever the cap: a file without it is no CSV.
         let written = writer
             .csv
@@ -160,8 +183,7 @@ impl<W: io::Write> TrajectoryWriter<W> {
     }
 
     fn field(&mut self, x: f64) -> csv::Result<()> {
-        format_number(&mut self.number, x);
-        self.csv.write_field(self.number.as_bytes())
+        write_number(&mut self.csv, &mut self.number, x)
     }
 
     /// Formats the row of `s`; [`TrajectoryWriter::put`] writes it.
@@ -173,18 +195,14 @@ impl<W: io::Write> TrajectoryWriter<W> {
 
     fn format_row(&mut self, s: &Sample<'_>) -> csv::Result<()> {
         self.field(s.t)?;
-        self.mode.clear();
-        self.mode.push_str(s.mode.name());
-        if let Mode::Constrained(set) = s.mode {
-            for (k, index) in set.iter().enumerate() {
-                self.mode.push(if k == 0 { ':' } else { '+' });
-                self.mode
-                    .push_str(self.constraints.get(index).map_or("?", String::as_str));
-            }
-        }
+        mode_label(&mut self.mode, s.mode, s.grips, &self.constraints);
         self.csv.write_field(self.mode.as_bytes())?;
         for &x in s.q.iter().chain(s.q_dot).chain(s.h).chain(s.lambda) {
             self.field(x)?;
+        }
+        for &index in &self.friction {
+            let x = s.friction.get(index).copied().unwrap_or(f64::NAN);
+            write_number(&mut self.csv, &mut self.number, x)?;
         }
         self.field(s.energy)?;
         if self.work {
@@ -214,6 +232,12 @@ impl<W: io::Write> TrajectoryWriter<W> {
             None => self.last = Some(zenosim::Point::of(s)),
         }
     }
+}
+
+/// Writes `x` as a field of `csv`, formatted in `number`.
+fn write_number(csv: &mut csv::Writer<Record>, number: &mut String, x: f64) -> csv::Result<()> {
+    format_number(number, x);
+    csv.write_field(number.as_bytes())
 }
 
 impl<W: io::Write> Observer for TrajectoryWriter<W> {
@@ -256,16 +280,18 @@ impl<W: io::Write> Observer for TrajectoryWriter<W> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use zenosim::Mode;
 
     #[test]
     fn rows_follow_the_header() {
-        use zenosim::{ActiveSet, Mode};
+        use zenosim::ActiveSet;
         let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
         let mut writer = TrajectoryWriter::new(
             Vec::new(),
             &names(&["x", "y"]),
             &names(&["x_dot", "y_dot"]),
             &names(&["floor", "left wall"]),
+            &[],
             false,
             u64::MAX,
             Progress::hidden(),
@@ -291,6 +317,90 @@ mod tests {
         );
     }
 
+    /// With friction: a column `f_<name>` per constraint with friction, after the multipliers,
+    /// and the contacts that stick or slip after the held set in `mode`.
+    #[test]
+    fn friction_has_its_columns_and_its_states_in_the_mode() {
+        use zenosim::{ActiveSet, Grips};
+        let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        // Constraints 0 and 2 have friction, 1 (the wall) has none.
+        assert_eq!(
+            header(
+                &names(&["x", "x_dot"]),
+                &names(&["left", "wall", "right"]),
+                &names(&["left", "right"]),
+                true,
+            )
+            .join(","),
+            "t,mode,x,x_dot,h_left,h_wall,h_right,lambda_left,lambda_wall,lambda_right,\
+             f_left,f_right,energy,work_forces,work_drive,work_constraints,impact_loss"
+        );
+        let mut writer = TrajectoryWriter::new(
+            Vec::new(),
+            &names(&["x", "y"]),
+            &names(&["x_dot", "y_dot"]),
+            &names(&["left", "wall", "right"]),
+            &[0, 2],
+            false,
+            u64::MAX,
+            Progress::hidden(),
+        );
+        let held = ActiveSet::single(0).with(1).with(2);
+        let rows = [
+            // Every held contact: one sticks, one slips backwards (s < 0, fₜ = +μₖ fₙ).
+            (
+                Mode::Constrained(held),
+                Grips {
+                    stick: ActiveSet::single(0),
+                    forward: ActiveSet::empty(),
+                    backward: ActiveSet::single(2),
+                },
+                [-1.5, 0.0, 2.25],
+            ),
+            // Both slip, forwards and backwards: one list.
+            (
+                Mode::Constrained(held),
+                Grips {
+                    stick: ActiveSet::empty(),
+                    forward: ActiveSet::single(2),
+                    backward: ActiveSet::single(0),
+                },
+                [0.5, 0.0, -0.25],
+            ),
+            // Only the frictionless wall held: no list.
+            (
+                Mode::Constrained(ActiveSet::single(1)),
+                Grips::none(),
+                [0.0; 3],
+            ),
+            (Mode::Free, Grips::none(), [0.0; 3]),
+        ];
+        for (k, (mode, grips, friction)) in rows.into_iter().enumerate() {
+            writer.sample(&Sample {
+                t: k as f64,
+                mode,
+                q: &[1.0, 0.0],
+                q_dot: &[0.0, 0.0],
+                h: &[0.0, 0.0, 0.0],
+                lambda: &[-2.0, -1.0, -3.0],
+                friction: &friction,
+                grips,
+                energy: 4.0,
+                work: zenosim::Work::default(),
+            });
+        }
+        let text = String::from_utf8(writer.finish().unwrap().out).unwrap();
+        assert_eq!(
+            text,
+            "t,mode,x,y,x_dot,y_dot,h_left,h_wall,h_right,lambda_left,lambda_wall,lambda_right,\
+             f_left,f_right,energy\n\
+             0,constrained:left+wall+right;stick:left;slip:right,1,0,0,0,0,0,0,-2,-1,-3,-1.5,2.25,4\n\
+             1,constrained:left+wall+right;slip:left+right,1,0,0,0,0,0,0,-2,-1,-3,0.5,-0.25,4\n\
+             2,constrained:wall,1,0,0,0,0,0,0,-2,-1,-3,0,0,4\n\
+             3,free,1,0,0,0,0,0,0,-2,-1,-3,0,0,4\n"
+        );
+    }
+
     /// The cap keeps the rows that fit, then the last sample delivered (the final state), and
     /// asks the run to stop.
     #[test]
@@ -305,6 +415,7 @@ mod tests {
             &names(&["x"]),
             &names(&["x_dot"]),
             &names(&["floor"]),
+            &[],
             false,
             cap,
             Progress::hidden(),
@@ -346,6 +457,7 @@ mod tests {
             &names(&["y"]),
             &names(&["y_dot"]),
             &names(&["floor"]),
+            &[],
             true,
             u64::MAX,
             Progress::hidden(),
@@ -384,7 +496,7 @@ mod tests {
              0.75,free,1,-0.5,1,0,9,-1.25,0,3e-7,2.5\n"
         );
         // The header without the balance is today's, column for column.
-        let plain = header(&names(&["y", "y_dot"]), &names(&["floor"]), false);
+        let plain = header(&names(&["y", "y_dot"]), &names(&["floor"]), &[], false);
         assert_eq!(
             plain.join(","),
             "t,mode,y,y_dot,h_floor,lambda_floor,energy"
@@ -407,6 +519,7 @@ mod tests {
             &names(&["y"]),
             &names(&["y_dot"]),
             &names(&["floor"]),
+            &[],
             true,
             u64::MAX,
             Progress::hidden(),

@@ -507,10 +507,18 @@ impl<'s> Cx<'s> {
         let lagrangian = self.compile(&lagrangian, &names(Reads::State), "the Lagrangian")?;
 
         let constraints = self.constraints(root, &names)?;
-        // The trajectory's columns h_<constraint> and lambda_<constraint> must not repeat a
-        // coordinate's or a velocity's.
+        // The trajectory's columns h_<constraint>, lambda_<constraint> and, with friction,
+        // f_<constraint> must not repeat a coordinate's or a velocity's.
         for c in &constraints {
-            for column in [format!("h_{}", c.name), format!("lambda_{}", c.name)] {
+            let rough = c
+                .friction
+                .as_ref()
+                .is_some_and(|(f, _)| f.static_coefficient > 0.0 || f.kinetic_coefficient > 0.0);
+            let friction = rough.then(|| format!("f_{}", c.name));
+            for column in [format!("h_{}", c.name), format!("lambda_{}", c.name)]
+                .into_iter()
+                .chain(friction)
+            {
                 if let Some(i) = coordinates.iter().position(|q| *q == column) {
                     let item = root.get("coordinates").expect("checked");
                     return Err(self.at(

@@ -453,3 +453,25 @@ fn friction_and_slip_keys_are_checked() {
     )
     .unwrap();
 }
+
+/// A coordinate may not take the name of a constraint's column `f_<name>` in trajectory.csv
+/// (its tangential force), which only a constraint with friction has.
+#[test]
+fn a_coordinate_named_as_a_friction_column_is_refused() {
+    let source = GOOD
+        .replace("\"x\", \"y\"", "\"f_floor\", \"y\"")
+        .replace("x_dot", "f_floor_dot");
+    let error = parse_model("case.toml", &source, &[])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("coordinate `f_floor` has the name of constraint `floor`'s column"),
+        "{error}"
+    );
+    // Frictionless (a coefficient of 0): no such column, so the name is free.
+    let frictionless = Override {
+        name: "mu".to_string(),
+        value: "0".to_string(),
+    };
+    parse_model("case.toml", &source, &[frictionless]).unwrap();
+}

@@ -9,8 +9,8 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyList, PyString};
 use zenosim::{
-    Execution, HybridLagrangian, Mode, Observer, OutputGrid, Sample, Simulation, SimulationOptions,
-    ZenoStrategy,
+    Execution, Grips, HybridLagrangian, Mode, Observer, OutputGrid, Sample, Simulation,
+    SimulationOptions, ZenoStrategy,
 };
 use zenosim_model::ModelFile;
 use zenosim_runs::summary::{Record, TrajectoryJson};
@@ -89,15 +89,11 @@ pub fn zeno_arg(zeno: Option<&Bound<'_, PyAny>>) -> PyResult<Option<ZenoStrategy
 }
 
 /// `mode` as `trajectory.csv` writes it: `free`, or `constrained:` and the names of the
-/// constraints held joined by `+`.
-pub fn mode_label(mode: Mode, constraints: &[String]) -> String {
-    let mut label = mode.name().to_string();
-    if let Mode::Constrained(set) = mode {
-        for (k, index) in set.iter().enumerate() {
-            label.push(if k == 0 { ':' } else { '+' });
-            label.push_str(constraints.get(index).map_or("?", String::as_str));
-        }
-    }
+/// constraints held joined by `+`, then for a model with friction the `;stick:` and `;slip:`
+/// lists of the held contacts ([`zenosim_runs::summary::mode_label`]).
+pub fn mode_label(mode: Mode, grips: Grips, constraints: &[String]) -> String {
+    let mut label = String::new();
+    zenosim_runs::summary::mode_label(&mut label, mode, grips, constraints);
     label
 }
 
@@ -108,9 +104,9 @@ struct Recorder {
     q_dot: Vec<f64>,
     h: Vec<f64>,
     energy: Vec<f64>,
-    /// Per row, the index of its mode in `modes`.
+    /// Per row, the index of its mode and its contacts' friction states in `modes`.
     mode: Vec<u32>,
-    modes: Vec<Mode>,
+    modes: Vec<(Mode, Grips)>,
     watch: Watch,
 }
 
@@ -136,10 +132,11 @@ impl Observer for Recorder {
         self.q_dot.extend_from_slice(s.q_dot);
         self.h.extend_from_slice(s.h);
         self.energy.push(s.energy);
-        let index = match self.modes.iter().position(|m| *m == s.mode) {
+        let mode = (s.mode, s.grips);
+        let index = match self.modes.iter().position(|m| *m == mode) {
             Some(index) => index,
             None => {
-                self.modes.push(s.mode);
+                self.modes.push(mode);
                 self.modes.len() - 1
             }
         };
@@ -292,7 +289,7 @@ fn record(
     let labels: Vec<Bound<'_, PyString>> = recorder
         .modes
         .iter()
-        .map(|mode| PyString::new(py, &mode_label(*mode, &constraints)))
+        .map(|&(mode, grips)| PyString::new(py, &mode_label(mode, grips, &constraints)))
         .collect();
     let mode = PyList::new(py, recorder.mode.iter().map(|&i| &labels[i as usize]))?;
     let message = zenosim_runs::message::message(execution, &constraints);

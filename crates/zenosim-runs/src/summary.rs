@@ -5,8 +5,8 @@
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use serde::Serialize as DeriveSerialize;
 use zenosim::{
-    ActiveSet, Completion, Derived, Event, Execution, HybridInterval, HybridLagrangian, Method,
-    Mode, Outcome, SimulationOptions, State, ZenoPoint, ZenoStrategy,
+    ActiveSet, Completion, Constraint, Derived, Event, Execution, Grips, HybridInterval,
+    HybridLagrangian, Method, Mode, Outcome, SimulationOptions, State, ZenoPoint, ZenoStrategy,
 };
 use zenosim_model::ModelFile;
 
@@ -36,6 +36,10 @@ pub struct Summary<'a> {
     pub velocities: Vec<String>,
     /// The constraints' names.
     pub constraints: Vec<&'a str>,
+    /// The names of the constraints with friction ([`has_friction`]), in the model's order;
+    /// left out where there are none (`trajectory.csv` has a column `f_<name>` for each).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub friction: Vec<&'a str>,
     /// The constraints' restitutions, by name.
     pub restitutions: Pairs<'a>,
     /// The constraints' functions `h`, as the model file writes them, by name (the plots
@@ -474,6 +478,10 @@ impl<'a> Record<'a> {
             coordinates: file.model.coordinate_names(),
             velocities: file.velocity_names(),
             constraints: names.iter().map(String::as_str).collect(),
+            friction: friction_indices(&file.model)
+                .into_iter()
+                .map(name)
+                .collect(),
             restitutions: Pairs(
                 file.model
                     .constraints()
@@ -551,6 +559,46 @@ pub fn constraint_names(file: &ModelFile) -> Vec<String> {
         .iter()
         .map(|c| c.name.clone())
         .collect()
+}
+
+/// Whether `constraint` has friction: a coefficient above 0 (both 0 is frictionless,
+/// docs/friction.md).
+pub fn has_friction(constraint: &Constraint) -> bool {
+    constraint
+        .friction
+        .is_some_and(|f| f.static_coefficient > 0.0 || f.kinetic_coefficient > 0.0)
+}
+
+/// The indices of `model`'s constraints with friction ([`has_friction`]), in order: those
+/// with a column `f_<name>` in `trajectory.csv` and listed in `summary.json`'s `friction`.
+pub fn friction_indices<L: HybridLagrangian>(model: &L) -> Vec<usize> {
+    model
+        .constraints()
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| has_friction(c))
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// Writes into `out` (cleared first) the `mode` of `trajectory.csv` (docs/output.md): `free`, or
+/// `constrained:` and the names of the constraints held joined by `+`; then, where held
+/// contacts stick or slip (`grips`), `;stick:` and `;slip:` and their names joined by `+`,
+/// each only where not empty: `constrained:left+right;stick:left;slip:right`.
+pub fn mode_label(out: &mut String, mode: Mode, grips: Grips, names: &[String]) {
+    out.clear();
+    let list = |out: &mut String, label: &str, set: ActiveSet| {
+        for (k, index) in set.iter().enumerate() {
+            out.push_str(if k == 0 { label } else { "+" });
+            out.push_str(names.get(index).map_or("?", String::as_str));
+        }
+    };
+    out.push_str(mode.name());
+    if let Mode::Constrained(set) = mode {
+        list(out, ":", set);
+    }
+    list(out, ";stick:", grips.stick);
+    list(out, ";slip:", grips.slipping());
 }
 
 /// The names of the constraints active in `mode`.

@@ -174,9 +174,11 @@ pub fn animate(args: &AnimateArgs) -> Result<u8, Failure> {
     Ok(EXIT_OK)
 }
 
-/// Which constraints the mode `constrained:a+b` holds (none for `free`).
+/// Which constraints the mode `constrained:a+b` holds (none for `free`); the friction states
+/// after it (`;stick:a;slip:b`) are left aside.
 fn held(mode: &str, names: &[&str]) -> Vec<bool> {
-    let held: Vec<&str> = mode
+    let held_part = mode.split(';').next().unwrap_or(mode);
+    let held: Vec<&str> = held_part
         .strip_prefix("constrained:")
         .map(|list| list.split('+').collect())
         .unwrap_or_default();
@@ -200,5 +202,14 @@ mod tests {
         assert_eq!(held("free", &names), [false, false, false]);
         assert_eq!(held("constrained:wall", &names), [false, true, false]);
         assert_eq!(held("constrained:floor+ramp", &names), [true, false, true]);
+        // With friction, the contacts' states follow: they name no held constraint.
+        assert_eq!(
+            held("constrained:floor+ramp;stick:floor;slip:ramp", &names),
+            [true, false, true]
+        );
+        assert_eq!(
+            held("constrained:wall;slip:wall", &names),
+            [false, true, false]
+        );
     }
 }

@@ -31,6 +31,10 @@ pub struct Record {
     pub velocities: Vec<String>,
     /// The constraints' names.
     pub constraints: Vec<String>,
+    /// The names of the constraints with friction, each a column `f_<name>` of the trajectory
+    /// (absent where there are none, and from summaries of older versions).
+    #[serde(default)]
+    pub friction: Vec<String>,
     /// The constraints' formulas `h`, by name (absent from summaries of older versions).
     #[serde(default)]
     pub h: HashMap<String, String>,
@@ -227,6 +231,12 @@ impl Record {
             return Err(format!(
                 "{n} coordinates and {} velocities: expected as many of each, at least one",
                 self.velocities.len()
+            ));
+        }
+        if let Some(name) = self.friction.iter().find(|f| !self.constraints.contains(f)) {
+            return Err(format!(
+                "`friction` lists {}, which is not one of the constraints",
+                quote(name)
             ));
         }
         if !self.settings.t_end.is_finite() {

@@ -49,7 +49,8 @@ pub struct Trajectory {
 pub struct Row<'a> {
     /// Its time.
     pub t: f64,
-    /// Its `mode` column: `free`, or `constrained:` and the constraints held joined by `+`.
+    /// Its `mode` column: `free`, or `constrained:` and the constraints held joined by `+`,
+    /// then maybe `;stick:` and `;slip:` lists (docs/output.md).
     pub mode: &'a str,
     /// `q…, q̇…`, the energy and, when the file has the energy balance's columns,
     /// `E(0) + work − impact loss` (the layout [`hermite`] joins).
@@ -74,7 +75,12 @@ pub fn read_with(
     let file = File::open(path).with_context(|| format!("cannot read {display}"))?;
     // No line of a trajectory of these columns is longer than this: a longer one (a file of
     // one line of 1 GB) is refused as it is read, not held in memory.
-    let header = trajectory::header(record.columns(), &record.constraints, true);
+    let header = trajectory::header(
+        record.columns(),
+        &record.constraints,
+        &record.friction,
+        true,
+    );
     let header_bytes: usize = header.iter().map(|name| name.len() + 1).sum();
     let longest = 4096 + 2 * header_bytes + 32 * header.len();
     let mut csv = csv::ReaderBuilder::new()
@@ -226,8 +232,9 @@ pub fn hermite_basis(s: f64) -> [f64; 4] {
     ]
 }
 
-/// The header's names, checked against the summary's: `t, mode, q…, q̇…, h_…, λ_…, energy`,
-/// and maybe the energy balance's columns (whether it has them).
+/// The header's names, checked against the summary's: `t, mode, q…, q̇…, h_…, λ_…, f_…,
+/// energy` (`f_…` for the constraints the summary lists with friction), and maybe the energy
+/// balance's columns (whether it has them).
 fn check_header(header: &csv::ByteRecord, record: &Record) -> Result<(Vec<String>, bool), String> {
     let names: Vec<String> = header
         .iter()
@@ -235,15 +242,31 @@ fn check_header(header: &csv::ByteRecord, record: &Record) -> Result<(Vec<String
         .collect();
     let m = record.constraints.len();
     for balance in [false, true] {
-        if names == trajectory::header(record.columns(), &record.constraints, balance) {
+        let expected = trajectory::header(
+            record.columns(),
+            &record.constraints,
+            &record.friction,
+            balance,
+        );
+        if names == expected {
             return Ok((names, balance));
         }
     }
+    let expected = trajectory::header(
+        record.columns(),
+        &record.constraints,
+        &record.friction,
+        false,
+    );
+    let friction = match record.friction.len() {
+        0 => String::new(),
+        k => format!(" ({k} with friction)"),
+    };
     Err(format!(
         "the header is `{}`, expected `{}` (and `{}` after it, for a model that is not \
-         autonomous) for {} coordinates and {m} constraints",
+         autonomous) for {} coordinates and {m} constraints{friction}",
         quote(&names.join(",")),
-        quote(&trajectory::header(record.columns(), &record.constraints, false).join(",")),
+        quote(&expected.join(",")),
         WORK_COLUMNS.join(","),
         record.coordinates.len()
     ))

@@ -81,10 +81,13 @@
     return data.modes[frames.mode[i]] || "";
   }
 
-  // The constraints held in a mode `constrained:a+b`.
+  // The constraints held in a mode `constrained:a+b`, or `constrained:a+b;stick:a;slip:b`
+  // with friction (the contacts' states after the first `;` are left aside).
   function held(mode) {
-    const colon = mode.indexOf(":");
-    return colon < 0 ? [] : mode.slice(colon + 1).split("+").filter((c) => c.length > 0);
+    const semicolon = mode.indexOf(";");
+    const heldPart = semicolon < 0 ? mode : mode.slice(0, semicolon);
+    const colon = heldPart.indexOf(":");
+    return colon < 0 ? [] : heldPart.slice(colon + 1).split("+").filter((c) => c.length > 0);
   }
 
   function qAt(at) {
@@ -705,7 +708,7 @@
     placePoints(at);
     drawMechanism(at, heldNow);
     $("time").textContent = fmt(time, 12);
-    $("mode").textContent = mode.indexOf(":") >= 0 ? mode.slice(0, mode.indexOf(":")) : mode;
+    $("mode").textContent = mode.split(";")[0].split(":")[0];
     $("held").textContent = heldNow.length ? heldNow.join(", ") : "none";
     const q = qAt(at);
     stateCells.forEach((cell, k) => { cell.textContent = fmt(q[k], 10); });

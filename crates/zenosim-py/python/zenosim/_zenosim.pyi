@@ -109,7 +109,9 @@ class Run:
     @property
     def mode(self) -> list[str]:
         """Each row's mode as trajectory.csv writes it: ``"free"``, or ``"constrained:"`` and
-        the names of the constraints held joined by ``+``."""
+        the names of the constraints held joined by ``+``, then for a model with friction
+        ``;stick:`` and ``;slip:`` and the held contacts that stick or slip (each list only
+        where not empty)."""
     @property
     def events(self) -> list[dict[str, Any]]:
         """Every event, as summary.json's ``events``: ``kind`` (``impact``, ``zeno``,

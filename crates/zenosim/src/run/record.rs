@@ -50,7 +50,7 @@ pub(super) struct Recorder<'s, O> {
     pub impacts: u64,
     pub spurious: u64,
     /// The last sample sent, so that a state shared by two events is sent once.
-    pub last_sample: (f64, Mode, Vec<f64>),
+    pub last_sample: (f64, Mode, Grips, Vec<f64>),
     pub h_buf: Vec<f64>,
     pub lambda_buf: Vec<f64>,
     pub friction_buf: Vec<f64>,
@@ -77,7 +77,7 @@ impl<'s, O: Observer> Recorder<'s, O> {
             zeno: Vec::new(),
             impacts: 0,
             spurious: 0,
-            last_sample: (f64::NAN, Mode::Free, vec![f64::NAN; 2 * n]),
+            last_sample: (f64::NAN, Mode::Free, Grips::none(), vec![f64::NAN; 2 * n]),
             h_buf: vec![0.0; m],
             lambda_buf: vec![0.0; m],
             friction_buf: vec![0.0; m],
@@ -238,11 +238,13 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         if !self.record.wants_samples {
             return Ok(());
         }
-        let (last_t, last_mode, last_y) = &mut self.record.last_sample;
-        if *last_t == t && *last_mode == mode && last_y.as_slice() == y {
+        // A sample is sent once, but for a change of the friction states alone (a stick or
+        // slip event: same time, mode and state), whose row after the event has its own.
+        let (last_t, last_mode, last_grips, last_y) = &mut self.record.last_sample;
+        if *last_t == t && *last_mode == mode && *last_grips == grips && last_y.as_slice() == y {
             return Ok(());
         }
-        (*last_t, *last_mode) = (t, mode);
+        (*last_t, *last_mode, *last_grips) = (t, mode, grips);
         last_y.copy_from_slice(y);
         let (q, q_dot) = y.split_at(self.n);
         let model = self.sim.model;
