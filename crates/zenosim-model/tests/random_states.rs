@@ -685,10 +685,10 @@ impl<'a, 'm> Checker<'a, 'm> {
             at_steps: options.output == OutputGrid::Steps,
             lowest_energy: f64::INFINITY,
             slack: 0.0,
-            frictional: file.model.constraints().iter().any(|c| c.friction.is_some()),
+            frictional: file.model.constraints().iter().any(|c| c.has_friction()),
             moving_surface: (0..file.model.constraints().len()).any(|i| {
                 let n = file.model.dimension();
-                file.model.constraints()[i].friction.is_some()
+                file.model.constraints()[i].has_friction()
                     && file
                         .model
                         .slip(i, 0.0, &file.initial.q, &vec![0.0; n])
@@ -825,7 +825,9 @@ impl Observer for Checker<'_, '_> {
         // after the switch.
         if self.frictional && event.kind == EventKind::Zeno {
             let after = &event.after;
-            self.lowest_energy = self.lowest_energy.max(self.derived.energy(&after.q, &after.q_dot));
+            self.lowest_energy = self
+                .lowest_energy
+                .max(self.derived.energy(&after.q, &after.q_dot));
             return;
         }
         // No event adds energy (with friction neither: the impact law's loss is never negative,
@@ -922,7 +924,10 @@ fn run_case(
         return Err(violation);
     }
     // Painlevé's paradox is the model's (a rod with μ = 3): the run says so and stops.
-    let paradox = matches!(run.outcome, Outcome::Failed(zenosim::Error::Painleve { .. }));
+    let paradox = matches!(
+        run.outcome,
+        Outcome::Failed(zenosim::Error::Painleve { .. })
+    );
     if run.outcome != Outcome::Finished && !paradox {
         return Err(format!(
             "the run ended {} at t = {} ({:?})",
@@ -1126,7 +1131,6 @@ fn check_model(file_name: &str) {
         println!("  smallest {what}: {:.1e}", t.closest);
     }
 }
-
 
 #[test]
 fn every_shipped_model_has_random_states() {

@@ -5,8 +5,8 @@
 use serde::ser::{Serialize, SerializeMap, Serializer};
 use serde::Serialize as DeriveSerialize;
 use zenosim::{
-    ActiveSet, Completion, Constraint, Derived, Event, Execution, Grips, HybridInterval,
-    HybridLagrangian, Method, Mode, Outcome, SimulationOptions, State, ZenoPoint, ZenoStrategy,
+    ActiveSet, Completion, Derived, Event, Execution, Grips, HybridInterval, HybridLagrangian,
+    Method, Mode, Outcome, SimulationOptions, State, ZenoPoint, ZenoStrategy,
 };
 use zenosim_model::ModelFile;
 
@@ -36,8 +36,9 @@ pub struct Summary<'a> {
     pub velocities: Vec<String>,
     /// The constraints' names.
     pub constraints: Vec<&'a str>,
-    /// The names of the constraints with friction ([`has_friction`]), in the model's order;
-    /// left out where there are none (`trajectory.csv` has a column `f_<name>` for each).
+    /// The names of the constraints with friction ([`zenosim::Constraint::has_friction`]), in
+    /// the model's order; left out where there are none (`trajectory.csv` has a column
+    /// `f_<name>` for each).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub friction: Vec<&'a str>,
     /// The constraints' restitutions, by name.
@@ -561,22 +562,15 @@ pub fn constraint_names(file: &ModelFile) -> Vec<String> {
         .collect()
 }
 
-/// Whether `constraint` has friction: a coefficient above 0 (both 0 is frictionless,
-/// docs/friction.md).
-pub fn has_friction(constraint: &Constraint) -> bool {
-    constraint
-        .friction
-        .is_some_and(|f| f.static_coefficient > 0.0 || f.kinetic_coefficient > 0.0)
-}
-
-/// The indices of `model`'s constraints with friction ([`has_friction`]), in order: those
-/// with a column `f_<name>` in `trajectory.csv` and listed in `summary.json`'s `friction`.
+/// The indices of `model`'s constraints with friction ([`zenosim::Constraint::has_friction`]),
+/// in order: those with a column `f_<name>` in `trajectory.csv` and listed in `summary.json`'s
+/// `friction`.
 pub fn friction_indices<L: HybridLagrangian>(model: &L) -> Vec<usize> {
     model
         .constraints()
         .iter()
         .enumerate()
-        .filter(|(_, c)| has_friction(c))
+        .filter(|(_, c)| c.has_friction())
         .map(|(i, _)| i)
         .collect()
 }

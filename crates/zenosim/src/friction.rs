@@ -262,6 +262,34 @@ impl Frame {
         &self.directions[p * self.n..(p + 1) * self.n]
     }
 
+    /// Row `r` of the contacts' rows `A₁ … A_k` followed by the slip rows `S` of the contacts
+    /// `extra` (positions in the frame, each with friction).
+    fn stacked_row(&self, extra: &[usize], r: usize) -> &[f64] {
+        let k = self.len();
+        if r < k {
+            self.row(r)
+        } else {
+            &self.tangent(extra[r - k]).slip.row
+        }
+    }
+
+    /// Column `r` of `M⁻¹` times the rows of [`Frame::stacked_row`]: `M⁻¹Aᵀ`, then `M⁻¹Sᵀ`.
+    fn stacked_direction(&self, extra: &[usize], r: usize) -> &[f64] {
+        let k = self.len();
+        if r < k {
+            self.direction(r)
+        } else {
+            &self.tangent(extra[r - k]).direction
+        }
+    }
+
+    /// The tangential side of the contact at position `p`, which has friction.
+    fn tangent(&self, p: usize) -> &Tangent {
+        self.tangents[p]
+            .as_ref()
+            .expect("a sticking or candidate contact has friction")
+    }
+
     /// The kinetic energy `½ q̇ᵀ M q̇`.
     fn kinetic(&self, q_dot: &[f64]) -> f64 {
         let n = self.n;
@@ -298,34 +326,18 @@ impl Frame {
             }
         }
         for (u, &p) in stick.iter().enumerate() {
-            let t = self.tangents[p]
-                .as_ref()
-                .expect("a sticking contact has friction");
-            columns[(k + u) * n..(k + u + 1) * n].copy_from_slice(&t.direction);
+            columns[(k + u) * n..(k + u + 1) * n].copy_from_slice(&self.tangent(p).direction);
         }
-        let row = |r: usize| -> &[f64] {
-            if r < k {
-                self.row(r)
-            } else {
-                &self.tangents[stick[r - k]]
-                    .as_ref()
-                    .expect("a sticking contact has friction")
-                    .slip
-                    .row
-            }
-        };
         let mut g = DMatrix::zeros(size, size);
         let mut rhs = DVector::zeros(size);
         for r in 0..size {
             for c in 0..size {
-                g[(r, c)] = dot(row(r), &columns[c * n..(c + 1) * n]);
+                g[(r, c)] = dot(self.stacked_row(&stick, r), &columns[c * n..(c + 1) * n]);
             }
             rhs[r] = -if r < k {
                 self.normals[r].h_ddot_free
             } else {
-                self.tangents[stick[r - k]]
-                    .as_ref()
-                    .map_or(0.0, |t| t.s_dot_free)
+                self.tangent(stick[r - k]).s_dot_free
             };
         }
         // The states are given: the forces solve a square system, which is singular only where
@@ -482,6 +494,60 @@ impl Frame {
         scales
     }
 
+    /// The LCP of Pfeiffer and Glocker on the frame's contacts (docs/friction.md), in the
+    /// unknowns `(fₙ, a, ṡ⁻)` (or their impulses): each contact's normal column `M⁻¹(Aᵀ − μ Sᵀ)`
+    /// with its entry of `mu` (the static coefficient for a candidate, the kinetic one times
+    /// the slip's direction for a contact that slips, 0 without friction), each candidate's
+    /// `a` along `M⁻¹Sᵀ`; the right-hand side `normal_q` in the normal rows and `slip_q` of each
+    /// candidate in its slip row; then `ṡ⁺ = ṡ + ṡ⁻` and `2 μₛ fₙ − a ≥ 0 ⊥ ṡ⁻`. Row-major
+    /// matrix and right-hand side, of size `k + 2m`, and the columns (`k + m` of them, each of
+    /// the model's dimension) that give the velocities' change from `(fₙ, a)`.
+    fn coulomb_lcp(
+        &self,
+        candidates: &[usize],
+        mu: &[f64],
+        normal_q: &[f64],
+        slip_q: impl Fn(&Tangent) -> f64,
+    ) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let (k, n, m) = (self.len(), self.n, candidates.len());
+        let size = k + 2 * m;
+        let tangent = |p: usize| self.tangent(p);
+        // The columns of the forces fₙ and a (M⁻¹ applied).
+        let mut columns = vec![0.0; (k + m) * n];
+        for p in 0..k {
+            let column = &mut columns[p * n..(p + 1) * n];
+            column.copy_from_slice(self.direction(p));
+            if let Some(t) = &self.tangents[p] {
+                for (c, d) in column.iter_mut().zip(&t.direction) {
+                    *c -= mu[p] * d;
+                }
+            }
+        }
+        for (u, &p) in candidates.iter().enumerate() {
+            columns[(k + u) * n..(k + u + 1) * n].copy_from_slice(&tangent(p).direction);
+        }
+        let mut matrix = vec![0.0; size * size];
+        let mut q = vec![0.0; size];
+        for r in 0..k + m {
+            let row = self.stacked_row(candidates, r);
+            for c in 0..k + m {
+                matrix[r * size + c] = dot(row, &columns[c * n..(c + 1) * n]);
+            }
+            q[r] = if r < k {
+                normal_q[r]
+            } else {
+                slip_q(tangent(candidates[r - k]))
+            };
+        }
+        for (u, &p) in candidates.iter().enumerate() {
+            matrix[(k + u) * size + (k + m + u)] = 1.0;
+            let r = k + m + u;
+            matrix[r * size + p] = 2.0 * tangent(p).mu_static;
+            matrix[r * size + (k + u)] = -1.0;
+        }
+        (matrix, q, columns)
+    }
+
     /// Law 1 with friction (docs/friction.md): of the frame's contacts (closed: at rest on their
     /// surfaces), which hold, and which of those with friction stick or slip. A contact whose
     /// slip is 0 to its rounding is a candidate to stick, with the static coefficient; one that
@@ -490,7 +556,6 @@ impl Frame {
     /// (Painlevé's paradox).
     pub fn decide(&self, set: ActiveSet) -> Result<Decision, DynamicsError> {
         let k = self.len();
-        let n = self.n;
         let candidates: Vec<usize> = (0..k)
             .filter(|&p| self.tangents[p].as_ref().is_some_and(Tangent::at_rest))
             .collect();
@@ -504,57 +569,22 @@ impl Frame {
             return Ok(decision);
         }
         let size = k + 2 * m;
-        // The columns of the forces fₙ and a (M⁻¹ applied).
-        let mut columns = vec![0.0; (k + m) * n];
-        for p in 0..k {
-            let column = &mut columns[p * n..(p + 1) * n];
-            column.copy_from_slice(self.direction(p));
-            if let Some(t) = &self.tangents[p] {
-                let mu = if t.at_rest() {
-                    t.mu_static
-                } else {
-                    t.mu_kinetic * t.slip.s.signum()
-                };
-                for (c, d) in column.iter_mut().zip(&t.direction) {
-                    *c -= mu * d;
-                }
-            }
-        }
-        for (u, &p) in candidates.iter().enumerate() {
-            let t = self.tangents[p].as_ref().expect("a candidate has friction");
-            columns[(k + u) * n..(k + u + 1) * n].copy_from_slice(&t.direction);
-        }
-        let mut matrix = vec![0.0; size * size];
-        let mut q = vec![0.0; size];
-        for r in 0..k + m {
-            let row: &[f64] = if r < k {
-                self.row(r)
-            } else {
-                &self.tangents[candidates[r - k]]
-                    .as_ref()
-                    .expect("a candidate has friction")
-                    .slip
-                    .row
-            };
-            for c in 0..k + m {
-                matrix[r * size + c] = dot(row, &columns[c * n..(c + 1) * n]);
-            }
-            q[r] = if r < k {
-                self.normals[r].h_ddot_free
-            } else {
-                self.tangents[candidates[r - k]]
-                    .as_ref()
-                    .map_or(0.0, |t| t.s_dot_free)
-            };
-        }
-        // ṡ⁺ = ṡ + ṡ⁻, and 2 μₛ fₙ − a ≥ 0 ⊥ ṡ⁻.
-        for (u, &p) in candidates.iter().enumerate() {
-            let t = self.tangents[p].as_ref().expect("a candidate has friction");
-            matrix[(k + u) * size + (k + m + u)] = 1.0;
-            let r = k + m + u;
-            matrix[r * size + p] = 2.0 * t.mu_static;
-            matrix[r * size + (k + u)] = -1.0;
-        }
+        // Contacts at rest enter with μₛ, the others with μₖ in their slip's direction.
+        let mu: Vec<f64> = self
+            .tangents
+            .iter()
+            .map(|t| {
+                t.as_ref().map_or(0.0, |t| {
+                    if t.at_rest() {
+                        t.mu_static
+                    } else {
+                        t.mu_kinetic * t.slip.s.signum()
+                    }
+                })
+            })
+            .collect();
+        let normal_q: Vec<f64> = self.normals.iter().map(|n| n.h_ddot_free).collect();
+        let (matrix, q, _) = self.coulomb_lcp(&candidates, &mu, &normal_q, |t| t.s_dot_free);
         let round_off: Vec<f64> = (0..size)
             .map(|r| {
                 if r < k {
@@ -785,48 +815,19 @@ impl Frame {
                 .collect();
             let m = candidates.len();
             let size = k + 2 * m;
-            let mut columns = vec![0.0; (k + m) * n];
-            for p in 0..k {
-                let column = &mut columns[p * n..(p + 1) * n];
-                column.copy_from_slice(self.direction(p));
-                if let Some(t) = &self.tangents[p] {
-                    let mu = if sliding[p] == 0.0 {
-                        t.mu_static
-                    } else {
-                        t.mu_kinetic * sliding[p]
-                    };
-                    for (c, d) in column.iter_mut().zip(&t.direction) {
-                        *c -= mu * d;
-                    }
-                }
-            }
-            for (u, &p) in candidates.iter().enumerate() {
-                let t = self.tangents[p].as_ref().expect("a candidate has friction");
-                columns[(k + u) * n..(k + u + 1) * n].copy_from_slice(&t.direction);
-            }
-            let mut matrix = vec![0.0; size * size];
-            let mut q = vec![0.0; size];
-            for r in 0..k + m {
-                let (row, offset): (&[f64], f64) = if r < k {
-                    (self.row(r), (1.0 + e[r]) * approach[r])
-                } else {
-                    let t = self.tangents[candidates[r - k]]
-                        .as_ref()
-                        .expect("a candidate has friction");
-                    (&t.slip.row, t.slip.s)
-                };
-                for c in 0..k + m {
-                    matrix[r * size + c] = dot(row, &columns[c * n..(c + 1) * n]);
-                }
-                q[r] = offset;
-            }
-            for (u, &p) in candidates.iter().enumerate() {
-                let t = self.tangents[p].as_ref().expect("a candidate has friction");
-                matrix[(k + u) * size + (k + m + u)] = 1.0;
-                let r = k + m + u;
-                matrix[r * size + p] = 2.0 * t.mu_static;
-                matrix[r * size + (k + u)] = -1.0;
-            }
+            let mu: Vec<f64> = (0..k)
+                .map(|p| {
+                    self.tangents[p].as_ref().map_or(0.0, |t| {
+                        if sliding[p] == 0.0 {
+                            t.mu_static
+                        } else {
+                            t.mu_kinetic * sliding[p]
+                        }
+                    })
+                })
+                .collect();
+            let normal_q: Vec<f64> = (0..k).map(|r| (1.0 + e[r]) * approach[r]).collect();
+            let (matrix, q, columns) = self.coulomb_lcp(&candidates, &mu, &normal_q, |t| t.slip.s);
             // Each right-hand side within the rounding of the velocities it is made of is 0.
             let round_off: Vec<f64> = (0..size)
                 .map(|r| {
@@ -995,37 +996,14 @@ impl Frame {
             .filter(|&p| stick.contains(self.indices[p]) && self.tangents[p].is_some())
             .collect();
         let size = k + sticking.len();
-        let row = |r: usize| -> &[f64] {
-            if r < k {
-                self.row(r)
-            } else {
-                &self.tangents[sticking[r - k]]
-                    .as_ref()
-                    .expect("sticks")
-                    .slip
-                    .row
-            }
-        };
-        let direction = |r: usize| -> &[f64] {
-            if r < k {
-                self.direction(r)
-            } else {
-                &self.tangents[sticking[r - k]]
-                    .as_ref()
-                    .expect("sticks")
-                    .direction
-            }
-        };
+        let row = |r: usize| self.stacked_row(&sticking, r);
+        let direction = |r: usize| self.stacked_direction(&sticking, r);
         let w = DMatrix::from_fn(size, size, |r, c| dot(row(r), direction(c)));
         let rhs = DVector::from_fn(size, |r, _| {
             if r < k {
                 self.normals[r].a_q_dot
             } else {
-                self.tangents[sticking[r - k]]
-                    .as_ref()
-                    .expect("sticks")
-                    .slip
-                    .s
+                self.tangent(sticking[r - k]).slip.s
             }
         });
         let mu = solve_least_norm(&w, &rhs).ok_or_else(|| paradox(set))?;

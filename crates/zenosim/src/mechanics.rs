@@ -240,12 +240,7 @@ impl<'a, L: HybridLagrangian> Mechanics<'a, L> {
             .constraints()
             .iter()
             .enumerate()
-            // A coefficient of 0 is no friction: such a contact is frictionless.
-            .filter(|(i, c)| {
-                c.friction
-                    .is_some_and(|f| f.static_coefficient > 0.0 || f.kinetic_coefficient > 0.0)
-                    && *i < ActiveSet::CAPACITY
-            })
+            .filter(|(i, c)| c.has_friction() && *i < ActiveSet::CAPACITY)
             .fold(ActiveSet::empty(), |set, (i, _)| set.with(i));
         Self {
             model,

@@ -64,6 +64,13 @@ impl Constraint {
             ..self
         }
     }
+
+    /// Whether its contact has friction: a coefficient above 0 (both 0 is frictionless,
+    /// docs/friction.md).
+    pub fn has_friction(&self) -> bool {
+        self.friction
+            .is_some_and(|f| f.static_coefficient > 0.0 || f.kinetic_coefficient > 0.0)
+    }
 }
 
 /// A simple hybrid Lagrangian `(Q, L, h)` (Ames et al. 2006, Definition 1), with one or more
