@@ -47,6 +47,13 @@ d,w=run('housner-block')
 ref=json.load(open(os.path.join(ROOT,'models','references','housner-block.json')))
 imp=[x['t'] for x in d['events'] if x['kind']=='impact']
 res['housner']=dict(impacts=max(abs(a-float(b)) for a,b in zip(imp,ref['impacts'])), zeno=abs(d['zeno'][0]['t_zeno']-float(ref['t_zeno'])), n=len(imp), wall=w)
+d,w=run('rimless-wheel')
+m,I,l,ga=1.0,0.1,1.0,0.1; a=math.pi/10
+r=(I+m*l*l*math.cos(2*a))/(I+m*l*l); K=4*m*G*l*math.sin(a)*math.sin(ga)/(I+m*l*l); ws=math.sqrt(r*r*K/(1-r*r))
+imp=[x for x in d['events'] if x['kind']=='impact']
+res['rimless wheel']=dict(ratio=max(abs(x['after']['q_dot'][2]/x['before']['q_dot'][2]-r) for x in imp),
+    stance_gain=max(abs(y['before']['q_dot'][2]**2-x['after']['q_dot'][2]**2-K)/K for x,y in zip(imp,imp[1:])),
+    last_to_cycle=abs(abs(imp[-1]['after']['q_dot'][2])-ws), n=len(imp), wall=w)
 d,w=run('painleve-rod')
 res['painleve']=dict(status=d['status'], t=d['final']['t'], msg=d['message'][:90], wall=w)
 for k,v in res.items(): print(k, {a:(('%.1e'%b) if isinstance(b,float) else b) for a,b in v.items()})

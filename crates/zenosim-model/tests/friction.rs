@@ -248,6 +248,59 @@ fn housners_rocking_block_comes_to_rest_at_its_zeno_point() {
     );
 }
 
+/// models/rimless-wheel.toml: each spoke strikes plastically and sticks, scaling the angular
+/// velocity by `r = (I + m l² cos 2a)/(I + m l²)`; each stance gains `K = 4 m g l sin a sin γ/
+/// (I + m l²)` in `ω²`; so `ω₊² − ω*²` shrinks by exactly `r²` a step towards the limit cycle
+/// `ω*² = r² K/(1 − r²)` (McGeer's rimless wheel, with a hub of inertia `I`).
+#[test]
+fn the_rimless_wheel_rolls_onto_its_limit_cycle() {
+    let (m, inertia, g, l, gamma) = (1.0_f64, 0.1, G, 1.0, 0.1_f64);
+    let a = std::f64::consts::PI / 10.0;
+    let r = (inertia + m * l * l * (2.0 * a).cos()) / (inertia + m * l * l);
+    let k = 4.0 * m * g * l * a.sin() * gamma.sin() / (inertia + m * l * l);
+    let limit = r * r * k / (1.0 - r * r);
+    let (run, _) = run(&load("rimless-wheel", &[]));
+    assert_eq!(run.outcome, Outcome::Finished, "{}", run.outcome);
+    let impacts: Vec<_> = run
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Impact)
+        .collect();
+    assert!(impacts.len() >= 20, "{}", impacts.len());
+    for (i, impact) in impacts.iter().enumerate() {
+        let (before, after) = (impact.before.q_dot[2], impact.after.q_dot[2]);
+        assert!(
+            (after / before - r).abs() < 1e-12,
+            "impact {i}: {}",
+            after / before
+        );
+        // The contact point does not slip.
+        assert_eq!(impact.contacts.len(), 2, "{impact:?}");
+        if let Some(next) = impacts.get(i + 1) {
+            // The stance's gain, to the integration's tolerance.
+            let gain = next.before.q_dot[2].powi(2) - after.powi(2);
+            assert!(
+                (gain - k).abs() < 1e-8 * k,
+                "stance {i}: {gain} against {k}"
+            );
+            // (The gain's error, 1e-8 of K at most, over the distance to the cycle.)
+            let distance = after.powi(2) - limit;
+            let shrink = (next.after.q_dot[2].powi(2) - limit) / distance;
+            assert!(
+                (shrink - r * r).abs() < 1e-8 * k / distance.abs(),
+                "step {i}: {shrink} against {}",
+                r * r
+            );
+        }
+    }
+    let last = impacts.last().unwrap().after.q_dot[2].abs();
+    assert!(
+        (last - limit.sqrt()).abs() < 2e-4,
+        "{last} against {}",
+        limit.sqrt()
+    );
+}
+
 fn inline(source: &str) -> ModelFile {
     parse_model("case.toml", source, &[]).unwrap_or_else(|e| panic!("{e}"))
 }

@@ -417,6 +417,21 @@ fn painleve_rod(file: &ModelFile, u: &[f64; 8]) -> State {
     )
 }
 
+/// The rimless wheel: spoke 0 within a spoke's spacing of the slope's normal, the hub up to 0.3
+/// above the lowest tip, moving at up to 2 either way and turning at up to 3 rad/s.
+fn rimless_wheel(file: &ModelFile, u: &[f64; 8]) -> State {
+    let (l, a) = (parameter(file, "l"), parameter(file, "a"));
+    let theta = lerp(u[0], -a, a);
+    (
+        vec![0.0, l * theta.cos() + 0.3 * u[1], theta],
+        vec![
+            lerp(u[2], -2.0, 2.0),
+            lerp(u[3], -2.0, 2.0),
+            lerp(u[4], -3.0, 3.0),
+        ],
+    )
+}
+
 /// Newton's cradle: gaps of up to half a diameter, speeds up to 1 either way.
 fn newtons_cradle(file: &ModelFile, u: &[f64; 8]) -> State {
     let d = parameter(file, "d");
@@ -484,7 +499,13 @@ fn table(file: &ModelFile, u: &[f64; 8]) -> State {
     )
 }
 
-const SPECS: [Spec; 22] = [
+const SPECS: [Spec; 23] = [
+    Spec {
+        file: "rimless-wheel.toml",
+        base: rimless_wheel,
+        seed: 35,
+        closest: None,
+    },
     Spec {
         file: "ball-backspin.toml",
         base: ball_backspin,
@@ -1163,6 +1184,11 @@ fn housner_block_random_states() {
 #[test]
 fn painleve_rod_random_states() {
     check_model("painleve-rod.toml");
+}
+
+#[test]
+fn rimless_wheel_random_states() {
+    check_model("rimless-wheel.toml");
 }
 
 #[test]
