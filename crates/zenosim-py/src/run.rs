@@ -7,7 +7,7 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyList, PyString};
+use pyo3::types::{PyDict, PyList, PyString};
 use zenosim::{
     Execution, Grips, HybridLagrangian, Mode, Observer, OutputGrid, Sample, Simulation,
     SimulationOptions, ZenoStrategy,
@@ -97,13 +97,26 @@ pub fn mode_label(mode: Mode, grips: Grips, constraints: &[String]) -> String {
     label
 }
 
+/// The energy balance's terms of [`Run::balance`], in order (docs/output.md).
+const BALANCE: [&str; 5] = [
+    "work_forces",
+    "work_drive",
+    "work_constraints",
+    "impact_loss",
+    "work_friction",
+];
+
 /// The observer of a run: keeps every sample, column by column, and watches for Ctrl-C.
 struct Recorder {
     t: Vec<f64>,
     q: Vec<f64>,
     q_dot: Vec<f64>,
     h: Vec<f64>,
+    lambda: Vec<f64>,
+    friction: Vec<f64>,
     energy: Vec<f64>,
+    /// Per row, the energy balance's terms in [`BALANCE`]'s order.
+    work: Vec<f64>,
     /// Per row, the index of its mode and its contacts' friction states in `modes`.
     mode: Vec<u32>,
     modes: Vec<(Mode, Grips)>,
@@ -117,7 +130,10 @@ impl Recorder {
             q: Vec::new(),
             q_dot: Vec::new(),
             h: Vec::new(),
+            lambda: Vec::new(),
+            friction: Vec::new(),
             energy: Vec::new(),
+            work: Vec::new(),
             mode: Vec::new(),
             modes: Vec::new(),
             watch: Watch::new(),
@@ -131,7 +147,12 @@ impl Observer for Recorder {
         self.q.extend_from_slice(s.q);
         self.q_dot.extend_from_slice(s.q_dot);
         self.h.extend_from_slice(s.h);
+        self.lambda.extend_from_slice(s.lambda);
+        self.friction.extend_from_slice(s.friction);
         self.energy.push(s.energy);
+        let w = &s.work;
+        self.work
+            .extend_from_slice(&[w.forces, w.drive, w.constraints, w.impact_loss, w.friction]);
         let mode = (s.mode, s.grips);
         let index = match self.modes.iter().position(|m| *m == mode) {
             Some(index) => index,
@@ -169,9 +190,26 @@ pub struct Run {
     /// Each constraint's `h`, rows × constraints.
     #[pyo3(get)]
     h: Py<PyAny>,
+    /// Each constraint's multiplier `λ` (trajectory.csv's `lambda_<name>`), rows × constraints.
+    #[pyo3(get)]
+    multipliers: Py<PyAny>,
+    /// The tangential force of each constraint with friction (trajectory.csv's `f_<name>`),
+    /// rows × `friction_constraints`.
+    #[pyo3(get)]
+    friction: Py<PyAny>,
+    /// The names of the constraints with friction (the columns of `friction`).
+    #[pyo3(get)]
+    friction_constraints: Vec<String>,
     /// The energy of each row.
     #[pyo3(get)]
     energy: Py<PyAny>,
+    /// The energy balance from the start to each row: a dict of arrays, `work_forces`,
+    /// `work_drive`, `work_constraints`, `impact_loss`, `work_friction` (docs/output.md).
+    #[pyo3(get)]
+    balance: Py<PyAny>,
+    /// The run's energy balance, as summary.json's `energy_balance`.
+    #[pyo3(get)]
+    energy_balance: Py<PyAny>,
     /// Each row's mode, as trajectory.csv writes it.
     #[pyo3(get)]
     mode: Py<PyAny>,
@@ -292,6 +330,23 @@ fn record(
         .map(|&(mode, grips)| PyString::new(py, &mode_label(mode, grips, &constraints)))
         .collect();
     let mode = PyList::new(py, recorder.mode.iter().map(|&i| &labels[i as usize]))?;
+    let frictional = zenosim_runs::summary::friction_indices(&file.model);
+    let friction: Vec<f64> = recorder
+        .friction
+        .chunks(m.max(1))
+        .flat_map(|row| frictional.iter().map(|&i| row[i]))
+        .collect();
+    let balance = PyDict::new(py);
+    for (k, name) in BALANCE.iter().enumerate() {
+        let column: Vec<f64> = recorder
+            .work
+            .iter()
+            .skip(k)
+            .step_by(BALANCE.len())
+            .copied()
+            .collect();
+        balance.set_item(name, PyArray1::from_vec(py, column))?;
+    }
     let message = zenosim_runs::message::message(execution, &constraints);
     let summary = Record {
         file,
@@ -312,7 +367,12 @@ fn record(
         q: matrix(recorder.q, n)?,
         q_dot: matrix(recorder.q_dot, n)?,
         h: matrix(recorder.h, m)?,
+        multipliers: matrix(recorder.lambda, m)?,
+        friction: matrix(friction, frictional.len())?,
+        friction_constraints: frictional.iter().map(|&i| constraints[i].clone()).collect(),
         energy: PyArray1::from_vec(py, recorder.energy).into_any().unbind(),
+        balance: balance.into_any().unbind(),
+        energy_balance: json_value(py, &summary.energy_balance)?,
         mode: mode.into_any().unbind(),
         events: json_value(py, &summary.events)?,
         zeno: json_value(py, &summary.zeno)?,

@@ -27,6 +27,19 @@ def assert_same_as_cli(run: zenosim.Run, cli) -> None:
         run.h, cli.numbers([f"h_{c}" for c in summary["constraints"]])
     )
     np.testing.assert_array_equal(run.energy, cli.numbers(["energy"])[:, 0])
+    np.testing.assert_array_equal(
+        run.multipliers, cli.numbers([f"lambda_{c}" for c in summary["constraints"]])
+    )
+    friction = summary.get("friction", [])
+    assert run.friction_constraints == friction
+    if friction:
+        np.testing.assert_array_equal(run.friction, cli.numbers([f"f_{c}" for c in friction]))
+    assert run.friction.shape == (len(run.t), len(friction))
+    work = ["work_forces", "work_drive", "work_constraints", "impact_loss"]
+    if "work_forces" in cli.columns:
+        for name in work:
+            np.testing.assert_array_equal(run.balance[name], cli.numbers([name])[:, 0])
+    assert run.energy_balance == summary["energy_balance"]
     assert run.mode == cli.columns["mode"]
     assert run.events == summary["events"]
     assert run.zeno == summary["zeno"]
@@ -162,3 +175,33 @@ def test_the_model_is_a_model_or_a_path():
     with pytest.raises(FileNotFoundError) as raised:
         zenosim.run("no/such/model.toml")
     assert raised.value.filename == "no/such/model.toml"
+
+
+@pytest.mark.parametrize("name", ["belt-stick-slip", "ball-backspin", "dragged-ball"])
+def test_the_energy_balance_closes_on_every_row(name):
+    """energy − energy[0] = W_forces + W_drive + W_constraints + W_friction − impact loss, row by
+    row, to the integration tolerance (docs/output.md); friction only takes energy out."""
+    run = zenosim.run(MODELS / f"{name}.toml")
+    b = run.balance
+    right = (
+        b["work_forces"] + b["work_drive"] + b["work_constraints"] + b["work_friction"]
+        - b["impact_loss"]
+    )
+    size = np.abs(run.energy).max() + sum(np.abs(v).max() for v in b.values())
+    assert np.abs(run.energy - run.energy[0] - right).max() < 1e-8 * size
+    assert (b["work_friction"] <= 1e-12 * size).all()
+
+
+def test_the_belts_friction_is_within_its_cones():
+    """Sticking, |fₜ| ≤ μₛ fₙ; slipping, |fₜ| = μₖ fₙ (unit mass, fₙ = g): the forces Python
+    returns are the engine's."""
+    run = zenosim.run(MODELS / "belt-stick-slip.toml")
+    assert run.friction_constraints == ["belt"]
+    f = run.friction[:, 0]
+    normal = -run.multipliers[:, 0]
+    np.testing.assert_allclose(normal, 9.81, rtol=1e-12)
+    stick = np.array([";stick:belt" in m for m in run.mode])
+    slip = np.array([";slip:belt" in m for m in run.mode])
+    assert stick.any() and slip.any()
+    assert (np.abs(f[stick]) <= 0.6 * 9.81 * (1 + 1e-12)).all()
+    np.testing.assert_allclose(np.abs(f[slip]), 0.4 * 9.81, rtol=1e-9)

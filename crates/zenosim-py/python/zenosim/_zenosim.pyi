@@ -104,8 +104,28 @@ class Run:
     def h(self) -> npt.NDArray[np.float64]:
         """Each constraint's ``h(t, q)``, shape (rows, constraints)."""
     @property
+    def multipliers(self) -> npt.NDArray[np.float64]:
+        """Each constraint's multiplier ``λ`` (trajectory.csv's ``lambda_<name>``: the contact
+        force is ``−Aᵀλ``, 0 where the constraint is not held), shape (rows, constraints)."""
+    @property
+    def friction(self) -> npt.NDArray[np.float64]:
+        """The tangential force ``fₜ`` of each constraint with friction (trajectory.csv's
+        ``f_<name>``, along increasing slip), shape (rows, friction_constraints)."""
+    @property
+    def friction_constraints(self) -> list[str]:
+        """The names of the constraints with friction (the columns of ``friction``)."""
+    @property
     def energy(self) -> npt.NDArray[np.float64]:
         """The energy ``q̇ᵀ ∂L/∂q̇ − L`` of each row, shape (rows,)."""
+    @property
+    def balance(self) -> dict[str, npt.NDArray[np.float64]]:
+        """The energy balance from the start to each row, each shape (rows,): ``work_forces``,
+        ``work_drive``, ``work_constraints``, ``impact_loss``, ``work_friction``, with
+        ``energy − energy[0] = work_forces + work_drive + work_constraints + work_friction −
+        impact_loss`` to the integration tolerance (docs/output.md)."""
+    @property
+    def energy_balance(self) -> dict[str, Any]:
+        """The run's energy balance, as summary.json's ``energy_balance``."""
     @property
     def mode(self) -> list[str]:
         """Each row's mode as trajectory.csv writes it: ``"free"``, or ``"constrained:"`` and
