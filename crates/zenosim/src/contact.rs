@@ -646,7 +646,7 @@ pub(crate) fn margin<L: HybridLagrangian>(
     acc: &mut [f64],
 ) -> Result<f64, DynamicsError> {
     if mech.frictional(set) {
-        let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+        let frame = Frame::of(mech, set, t, q, q_dot)?;
         let forces = frame.forces(set, grips)?;
         return Ok(frame.margins(&forces, grips, scales));
     }
@@ -668,7 +668,7 @@ pub(crate) fn acceleration<L: HybridLagrangian>(
     q_ddot: &mut [f64],
 ) -> Result<(), DynamicsError> {
     if mech.frictional(set) {
-        let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+        let frame = Frame::of(mech, set, t, q, q_dot)?;
         let forces = frame.forces(set, grips)?;
         q_ddot.copy_from_slice(&forces.q_ddot);
         return Ok(());
@@ -722,7 +722,7 @@ pub(crate) fn multipliers<L: HybridLagrangian>(
 ) -> Result<(), DynamicsError> {
     let n = q.len();
     if mech.frictional(set) {
-        let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+        let frame = Frame::of(mech, set, t, q, q_dot)?;
         let forces = frame.forces(set, grips)?;
         for p in 0..frame.len() {
             let (s, s0) = frame.tangents[p].as_ref().map_or((0.0, 0.0), |t| {
@@ -783,7 +783,7 @@ pub(crate) fn project_onto<L: HybridLagrangian>(
     if stick.is_empty() {
         return Ok(());
     }
-    let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+    let frame = Frame::of(mech, set, t, q, q_dot)?;
     frame.stop_slip(set, stick, q_dot).map(|_| ())
 }
 
@@ -805,7 +805,7 @@ pub(crate) fn stop_reached_slips<L: HybridLagrangian>(
         return Ok(slipping);
     }
     let (q, q_dot) = y.split_at_mut(n);
-    let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+    let frame = Frame::of(mech, set, t, q, q_dot)?;
     let mut stopped = ActiveSet::empty();
     for (p, &index) in frame.indices.iter().enumerate() {
         let Some(tangent) = &frame.tangents[p] else {
@@ -838,7 +838,7 @@ pub(crate) fn unwind_slip<L: HybridLagrangian>(
     }
     {
         let (q, q_dot) = y.split_at_mut(n);
-        let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+        let frame = Frame::of(mech, set, t, q, q_dot)?;
         frame.unwind_slip(set, grips, duration, q_dot)?;
     }
     project_onto(mech, set, grips, t, n, y)
@@ -856,7 +856,7 @@ pub(crate) fn stick_all<L: HybridLagrangian>(
     duration: f64,
 ) -> Result<bool, DynamicsError> {
     let (q, q_dot) = y.split_at_mut(n);
-    let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+    let frame = Frame::of(mech, set, t, q, q_dot)?;
     frame.stick_all(set, duration, q_dot)
 }
 
@@ -870,7 +870,7 @@ pub(crate) fn scales<L: HybridLagrangian>(
     q: &[f64],
     q_dot: &[f64],
 ) -> Result<Vec<f64>, DynamicsError> {
-    let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+    let frame = Frame::of(mech, set, t, q, q_dot)?;
     let forces = frame.forces(set, grips)?;
     Ok(frame.scales(&forces))
 }
@@ -886,7 +886,7 @@ pub(crate) fn worst_change<L: HybridLagrangian>(
     q: &[f64],
     q_dot: &[f64],
 ) -> Result<(ActiveSet, Grips), DynamicsError> {
-    let frame = Frame::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+    let frame = Frame::of(mech, set, t, q, q_dot)?;
     let forces = frame.forces(set, grips)?;
     Ok(frame.worst_change(set, &forces, grips, scales))
 }

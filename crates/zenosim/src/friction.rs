@@ -249,6 +249,17 @@ impl Frame {
         Ok(frame)
     }
 
+    /// [`Frame::at`], its error without the constraint it names.
+    pub fn of<L: HybridLagrangian>(
+        mech: &Mechanics<'_, L>,
+        set: ActiveSet,
+        t: f64,
+        q: &[f64],
+        q_dot: &[f64],
+    ) -> Result<Self, DynamicsError> {
+        Self::at(mech, set, t, q, q_dot).map_err(|(e, _)| e)
+    }
+
     /// The number of contacts.
     pub fn len(&self) -> usize {
         self.indices.len()

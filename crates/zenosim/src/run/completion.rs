@@ -315,7 +315,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     ) -> Result<(), DynamicsError> {
         let n = self.n;
         let (q, q_dot) = y.split_at_mut(n);
-        let frame = friction::Frame::at(&self.mech, set, t, q, q_dot).map_err(|(e, _)| e)?;
+        let frame = friction::Frame::of(&self.mech, set, t, q, q_dot)?;
         let constraints = self.sim.model.constraints();
         let approach: Vec<f64> = frame
             .indices
