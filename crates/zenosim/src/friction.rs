@@ -789,18 +789,15 @@ impl Frame {
     /// The plastic impact with friction (`e = 0`) on the frame's contacts, each taken to
     /// approach at the normal velocity `approach` (in the set's order) instead of its own, `q̇`
     /// updated: the normal impulses that stop those approaches, and the tangential impulses
-    /// Coulomb's law allows with them (docs/friction.md, Zeno points). `_h_t` is each
-    /// surface's own velocity (kept for the balance).
+    /// Coulomb's law allows with them (docs/friction.md, Zeno points).
     pub fn plastic(
         &self,
         set: ActiveSet,
         approach: &[f64],
-        _h_t: &[f64],
         q_dot: &mut [f64],
-        restitution: &[f64],
     ) -> Result<(), DynamicsError> {
-        self.impact_with(set, restitution, approach, q_dot)
-            .map(|_| ())
+        let plastic = vec![0.0; self.len()];
+        self.impact_with(set, &plastic, approach, q_dot).map(|_| ())
     }
 
     /// The impact law with friction for the restitutions `e`, each contact approaching at the

@@ -331,9 +331,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 }
             })
             .collect();
-        let zero = vec![0.0; frame.len()];
-        let h_t: Vec<f64> = frame.normals.iter().map(|normal| normal.h_t).collect();
-        frame.plastic(set, &approach, &h_t, q_dot, &zero)
+        frame.plastic(set, &approach, q_dot)
     }
 
     /// The constraints of `set` within `ε` of their surfaces at `y` (`|h| ≤ ε`).
