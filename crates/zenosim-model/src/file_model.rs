@@ -25,7 +25,7 @@ pub struct FileModel {
     /// Per constraint, the user's `R∞`: (target slot, formula) pairs, evaluated together.
     pub(crate) resets: Vec<Vec<(usize, Expression)>>,
     /// Per constraint with friction, its slip velocity `s(t, q, q̇)`.
-    pub(crate) slips: Vec<Option<Expression>>,
+    pub(crate) slips: Vec<Option<Vec<Expression>>>,
     /// The generalized forces of `[forces]`: (coordinate index, formula), in the file's order,
     /// one per coordinate at most.
     pub(crate) forces: Vec<(usize, Expression)>,
@@ -61,7 +61,7 @@ pub(crate) type ConstraintParts = (
     Constraint,
     Expression,
     Vec<(usize, Expression)>,
-    Option<Expression>,
+    Option<Vec<Expression>>,
 );
 
 impl FileModel {
@@ -98,7 +98,7 @@ impl FileModel {
         let timed = model.lagrangian.reads(t)
             || model.h.iter().any(|h| h.reads(t))
             || model.resets.iter().flatten().any(|(_, f)| f.reads(t))
-            || model.slips.iter().flatten().any(|f| f.reads(t));
+            || model.slips.iter().flatten().flatten().any(|f| f.reads(t));
         model.autonomous = !timed && model.forces.is_empty() && model.dissipation.is_none();
         model
     }
@@ -250,13 +250,17 @@ impl HybridLagrangian for FileModel {
         }
     }
 
-    /// The file's `slip` of constraint `index` (0 where it has none).
+    /// Component `component` of the file's `slip` of constraint `index` (0 where it has none).
     #[inline]
-    fn slip<D: Scalar>(&self, index: usize, t: D, q: &[D], q_dot: &[D]) -> D {
-        match &self.slips[index] {
+    fn slip<D: Scalar>(&self, index: usize, component: usize, t: D, q: &[D], q_dot: &[D]) -> D {
+        match self.slips[index].as_ref().and_then(|s| s.get(component)) {
             Some(formula) => formula.eval_at(q, q_dot, t),
             None => D::from(0.0),
         }
+    }
+
+    fn slip_components(&self, index: usize) -> usize {
+        self.slips[index].as_ref().map_or(1, Vec::len)
     }
 
     fn is_autonomous(&self) -> bool {

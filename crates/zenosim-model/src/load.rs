@@ -1306,16 +1306,16 @@ impl<'s> Cx<'s> {
         Ok(Friction::coulomb(mu))
     }
 
-    /// A constraint's `slip`: one formula of `t`, the coordinates, the velocities and the
-    /// parameters, affine in the velocities (a contact in a plane; two, a contact in space, are
-    /// not supported yet).
+    /// A constraint's `slip`: one formula (a contact in a plane) or two (a contact in space,
+    /// along two orthonormal tangent directions) of `t`, the coordinates, the velocities and
+    /// the parameters, each affine in the velocities.
     fn slip<'n>(
         &self,
         item: &Item<'s>,
         key: &str,
         constraint: &str,
         names: &impl Fn(Reads) -> Names<'n>,
-    ) -> Result<Expression, ModelError> {
+    ) -> Result<Vec<Expression>, ModelError> {
         let example = "slip = [\"x_dot + r*th_dot\"]";
         let DeValue::Array(array) = item.get_ref() else {
             return Err(self.at(
@@ -1325,48 +1325,56 @@ impl<'s> Cx<'s> {
                 format!("write {example}: the contact points' relative tangential velocity"),
             ));
         };
-        if array.len() != 1 {
+        if !(1..=2).contains(&array.len()) {
             return Err(self.at(
                 item.span().start,
                 key,
                 format!("the slip of `{constraint}` has {} formulas", array.len()),
                 format!(
                     "a contact in a plane has one slip formula, e.g. {example}; a contact in \
-                     space (two formulas, an isotropic cone) is not supported yet"
+                     space two, its slip along two orthonormal tangent directions, e.g. \
+                     slip = [\"x_dot - r*wy\", \"y_dot + r*wx\"]"
                 ),
             ));
         }
-        let entry = &array[0];
-        let entry_key = format!("{key}[1]");
-        let formula = self.formula(entry, &entry_key)?;
         let state = names(Reads::State);
-        let what = format!("the slip of `{constraint}`");
-        let expression = self.compile(&formula, &state, &what)?;
         let n = state.coordinates.len();
-        if !expression
-            .slots()
-            .iter()
-            .any(|&slot| (n..2 * n).contains(&slot))
-        {
-            return Err(self.formula_error(
-                &formula,
-                None,
-                format!("{what} does not depend on any velocity"),
-                format!("the slip is a velocity, affine in the velocities: {example}"),
-            ));
+        let mut formulas = Vec::with_capacity(array.len());
+        for (i, entry) in array.iter().enumerate() {
+            let entry_key = format!("{key}[{}]", i + 1);
+            let formula = self.formula(entry, &entry_key)?;
+            let what = if array.len() == 1 {
+                format!("the slip of `{constraint}`")
+            } else {
+                format!("component {} of the slip of `{constraint}`", i + 1)
+            };
+            let expression = self.compile(&formula, &state, &what)?;
+            if !expression
+                .slots()
+                .iter()
+                .any(|&slot| (n..2 * n).contains(&slot))
+            {
+                return Err(self.formula_error(
+                    &formula,
+                    None,
+                    format!("{what} does not depend on any velocity"),
+                    format!("the slip is a velocity, affine in the velocities: {example}"),
+                ));
+            }
+            if let Some(pair) = not_affine(&expression, n) {
+                return Err(self.formula_error(
+                    &formula,
+                    None,
+                    format!(
+                        "{what} is not affine in the velocities: its derivative along {}_dot changes with {}_dot",
+                        state.coordinates[pair.0], state.coordinates[pair.1]
+                    ),
+                    format!("the slip is the contact points' relative velocity, of the form a(t, q)·q̇ + b(t, q): {example}"),
+                ));
+            }
+            formulas.push(expression);
         }
-        if let Some(pair) = not_affine(&expression, n) {
-            return Err(self.formula_error(
-                &formula,
-                None,
-                format!(
-                    "{what} is not affine in the velocities: its derivative along {}_dot changes with {}_dot",
-                    state.coordinates[pair.0], state.coordinates[pair.1]
-                ),
-                format!("the slip is the contact points' relative velocity, of the form a(t, q)·q̇ + b(t, q): {example}"),
-            ));
-        }
-        Ok(expression)
+        Ok(formulas)
     }
 
     fn zeno_reset<'n>(
@@ -1945,7 +1953,7 @@ struct ParsedConstraint {
     restitution: f64,
     reset: Vec<(usize, Expression)>,
     /// Coulomb friction and the slip formula, where the constraint has them.
-    friction: Option<(Friction, Expression)>,
+    friction: Option<(Friction, Vec<Expression>)>,
 }
 
 /// A pair of velocities `(i, j)` along which `expression`'s second derivative is not 0 at one

@@ -473,11 +473,24 @@ fn friction_and_slip_keys_are_checked() {
         "no kinetic coefficient",
     );
     refused("friction = \"mu\"", "friction = \"x\"", "x");
+    // Two formulas: a contact in space.
+    parse_model(
+        "case.toml",
+        &GOOD.replace("slip = [\"x_dot\"]", "slip = [\"x_dot\", \"y_dot\"]"),
+        &[],
+    )
+    .unwrap();
     refused(
         "slip = [\"x_dot\"]",
-        "slip = [\"x_dot\", \"y_dot\"]",
-        "not supported yet",
+        "slip = [\"x_dot\", \"y_dot\", \"x_dot\"]",
+        "has 3 formulas",
     );
+    let e = refused(
+        "slip = [\"x_dot\"]",
+        "slip = [\"x_dot\", \"x_dot*y_dot\"]",
+        "component 2 of the slip of `floor` is not affine",
+    );
+    assert_eq!(e.key(), Some("constraint[1].slip[2]"), "{e}");
     refused("slip = [\"x_dot\"]", "slip = \"x_dot\"", "must be a list");
     refused(
         "slip = [\"x_dot\"]",
@@ -527,4 +540,166 @@ fn a_coordinate_named_as_a_friction_column_is_refused() {
         value: "0".to_string(),
     };
     parse_model("case.toml", &source, &[frictionless]).unwrap();
+}
+
+/// models/sphere-slide-spin.toml, a contact in space: the slip `u` keeps its direction and
+/// shrinks at `μ g (1 + m r²/I) = (7/2) μ g`, so the sphere rolls from `t* = |u₀|/((7/2) μ g)`
+/// at `v₀ − μ g t* û₀ = v₀ − (2/7) u₀` (closed form), its spin about the vertical untouched,
+/// and rolls on with no force.
+#[test]
+fn the_sphere_in_space_slides_in_one_direction_until_it_rolls() {
+    let (r, mu): (f64, f64) = (0.1, 0.3);
+    let (vx, vy, wx, wy, wz): (f64, f64, f64, f64, f64) = (2.0, 0.5, 10.0, -15.0, 7.0);
+    let u0 = [vx - r * wy, vy + r * wx];
+    let t_roll = u0[0].hypot(u0[1]) / (3.5 * mu * G);
+    let v_roll = [vx - 2.0 / 7.0 * u0[0], vy - 2.0 / 7.0 * u0[1]];
+
+    let (run, trajectory) = run(&load("sphere-slide-spin", &[]));
+    assert_eq!(run.outcome, Outcome::Finished, "{}", run.outcome);
+    let sticks = times(&run, EventKind::Stick);
+    assert_eq!(sticks.len(), 1, "{:?}", run.events);
+    assert!(
+        (sticks[0] - t_roll).abs() < 1e-9,
+        "{} against {t_roll}",
+        sticks[0]
+    );
+    // While it slides, the slip points along u₀.
+    for point in trajectory.points.iter().filter(|p| p.t < t_roll) {
+        let v = &point.q_dot;
+        let u = [v[0] - r * v[4], v[1] + r * v[3]];
+        // The slip's part across û₀, to the rounding of the velocities.
+        let across = (u[0] * u0[1] - u[1] * u0[0]) / u0[0].hypot(u0[1]);
+        assert!(across.abs() < 1e-13, "at t = {}: {across}", point.t);
+    }
+    let end = &run.final_state;
+    assert!((end.q_dot[0] - v_roll[0]).abs() < 1e-9, "{end:?}");
+    assert!((end.q_dot[1] - v_roll[1]).abs() < 1e-9, "{end:?}");
+    assert!((end.q_dot[5] - wz).abs() < 1e-12, "{end:?}");
+    assert!((end.q_dot[0] - r * end.q_dot[4]).abs() < 1e-9, "{end:?}");
+    assert!((end.q_dot[1] + r * end.q_dot[3]).abs() < 1e-9, "{end:?}");
+    let last = trajectory.points.last().unwrap();
+    assert!(last.work.friction < 0.0, "{:?}", last.work);
+    assert!(
+        trajectory.balance_residual() < 1e-8,
+        "{}",
+        trajectory.balance_residual()
+    );
+}
+
+/// The ball with backspin of models/ball-backspin.toml thrown along a line at 30° in space
+/// (two slip components) is the planar ball on that line: the same impacts, Zeno point and
+/// rolling speed, sticking (`μ = 0.5`) or sliding through the Zeno point (`μ = 0.02`).
+#[test]
+fn the_ball_with_backspin_in_space_is_the_planar_ball_on_its_line() {
+    let space = r#"
+name = "ball-backspin-space"
+coordinates = ["x", "y", "z", "a", "b", "c"]
+lagrangian = "0.5*m*(x_dot^2 + y_dot^2 + z_dot^2) + 0.5*(0.4*m*r^2)*(a_dot^2 + b_dot^2 + c_dot^2) - m*g*z"
+[parameters]
+m = 1.0
+g = 9.81
+r = 0.1
+e = 0.5
+mu = 0.5
+phi = 0.5235987755982988
+[[constraint]]
+name = "floor"
+h = "z - r"
+restitution = "e"
+friction = "mu"
+slip = ["x_dot - r*b_dot", "y_dot + r*a_dot"]
+[initial]
+z = 1.0
+x_dot = "cos(phi)"
+y_dot = "sin(phi)"
+a_dot = "-20*sin(phi)"
+b_dot = "20*cos(phi)"
+[simulation]
+t_end = 3.0
+"#;
+    for mu in ["0.5", "0.02"] {
+        let plane = run(&load("ball-backspin", &[("mu", mu)])).0;
+        let source = space.replace("mu = 0.5", &format!("mu = {mu}"));
+        let spatial = run(&inline(&source)).0;
+        assert_eq!(spatial.outcome, Outcome::Finished, "{}", spatial.outcome);
+        let kinds = |r: &Execution| r.events.iter().map(|e| e.kind).collect::<Vec<_>>();
+        assert_eq!(kinds(&spatial), kinds(&plane), "μ = {mu}");
+        for (a, b) in spatial.events.iter().zip(&plane.events) {
+            assert!(
+                (a.t - b.t).abs() < 1e-7,
+                "μ = {mu}: {} against {}",
+                a.t,
+                b.t
+            );
+        }
+        let (v, w) = (&spatial.final_state.q_dot, &plane.final_state.q_dot);
+        assert!(
+            (v[0].hypot(v[1]) - w[0]).abs() < 1e-9,
+            "μ = {mu}: {v:?} {w:?}"
+        );
+        assert!(
+            (v[1] / v[0] - 1.0 / 3.0_f64.sqrt()).abs() < 1e-9,
+            "μ = {mu}: {v:?}"
+        );
+    }
+}
+
+/// A sphere set down rolling across a plane tilted by `α` (contact in space): with
+/// `μ < (2/7) tan α` it slips from rest straight down the slope at `g (sin α − μ cos α)`, its
+/// sideways rolling untouched; with more friction it rolls down at `(5/7) g sin α`, held by
+/// `(2/7) m g sin α` up the slope (closed forms).
+#[test]
+fn the_sphere_on_a_tilted_plane_slips_from_rest_down_the_slope_or_rolls() {
+    let source = r#"
+name = "sphere-tilted"
+coordinates = ["x", "y", "z", "a", "b", "c"]
+lagrangian = "0.5*m*(x_dot^2 + y_dot^2 + z_dot^2) + 0.5*(0.4*m*r^2)*(a_dot^2 + b_dot^2 + c_dot^2) - m*g*z"
+[parameters]
+m = 1.0
+g = 9.81
+r = 0.1
+mu = 0.05
+al = 0.3
+vx = 1.0
+[[constraint]]
+name = "slope"
+h = "z*cos(al) - y*sin(al) - r"
+restitution = 0.0
+friction = "mu"
+slip = ["x_dot - r*(b_dot*cos(al) + c_dot*sin(al))", "cos(al)*y_dot + sin(al)*z_dot + r*a_dot"]
+[initial]
+z = "r/cos(al)"
+x_dot = "vx"
+b_dot = "vx/(r*cos(al))"
+[simulation]
+t_end = 1.0
+"#;
+    let al: f64 = 0.3;
+    let down = |v: &[f64]| -(al.cos() * v[1] + al.sin() * v[2]);
+    for (mu, slips, rate) in [
+        (0.05, true, G * (al.sin() - 0.05 * al.cos())),
+        (0.1, false, 5.0 / 7.0 * G * al.sin()),
+    ] {
+        let file = inline(&source.replace("mu = 0.05", &format!("mu = {mu}")));
+        let (run, trajectory) = run(&file);
+        assert_eq!(run.outcome, Outcome::Finished, "{}", run.outcome);
+        assert!(run.events.is_empty(), "{:?}", run.events);
+        let end = &run.final_state;
+        assert!((down(&end.q_dot) - rate).abs() < 1e-9, "μ = {mu}: {end:?}");
+        assert!((end.q_dot[0] - 1.0).abs() < 1e-12, "μ = {mu}: {end:?}");
+        let point = trajectory.points.last().unwrap();
+        assert_eq!(point.grips.stick.is_empty(), slips, "μ = {mu}");
+        // The tangential force: up the slope (the second component, negative down it).
+        let force = if slips {
+            mu * G * al.cos()
+        } else {
+            2.0 / 7.0 * G * al.sin()
+        };
+        assert!(point.friction[0].abs() < 1e-12, "{:?}", point.friction);
+        assert!(
+            (point.friction_across[0] - force).abs() < 1e-9,
+            "μ = {mu}: {} against {force}",
+            point.friction_across[0]
+        );
+    }
 }

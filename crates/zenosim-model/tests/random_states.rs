@@ -417,6 +417,25 @@ fn painleve_rod(file: &ModelFile, u: &[f64; 8]) -> State {
     )
 }
 
+/// The sphere in space: up to 0.5 above the plane, moving at up to 3 along and across it and
+/// 3 up or down, spinning at up to 20 rad/s about each axis (impacts, slips and rolls in
+/// space).
+fn sphere_in_space(file: &ModelFile, u: &[f64; 8]) -> State {
+    let r = parameter(file, "r");
+    (
+        vec![0.0, 0.0, r + 0.5 * u[0], 0.0, 0.0, 0.0],
+        vec![
+            lerp(u[1], -3.0, 3.0),
+            lerp(u[2], -3.0, 3.0),
+            lerp(u[3], -3.0, 3.0),
+            lerp(u[4], -20.0, 20.0),
+            lerp(u[5], -20.0, 20.0),
+            // u[6] and u[7] are the start's: the spin about the vertical from u[0]'s digits.
+            lerp((7.0 * u[0]).fract(), -20.0, 20.0),
+        ],
+    )
+}
+
 /// The rimless wheel: spoke 0 within a spoke's spacing of the slope's normal, the hub up to 0.3
 /// above the lowest tip, moving at up to 2 either way and turning at up to 3 rad/s.
 fn rimless_wheel(file: &ModelFile, u: &[f64; 8]) -> State {
@@ -499,7 +518,7 @@ fn table(file: &ModelFile, u: &[f64; 8]) -> State {
     )
 }
 
-const SPECS: [Spec; 23] = [
+const SPECS: [Spec; 24] = [
     Spec {
         file: "rimless-wheel.toml",
         base: rimless_wheel,
@@ -522,6 +541,12 @@ const SPECS: [Spec; 23] = [
         file: "housner-block.toml",
         base: rocking_block,
         seed: 32,
+        closest: None,
+    },
+    Spec {
+        file: "sphere-slide-spin.toml",
+        base: sphere_in_space,
+        seed: 36,
         closest: None,
     },
     Spec {
@@ -710,11 +735,12 @@ impl<'a, 'm> Checker<'a, 'm> {
             moving_surface: (0..file.model.constraints().len()).any(|i| {
                 let n = file.model.dimension();
                 file.model.constraints()[i].has_friction()
-                    && file
-                        .model
-                        .slip(i, 0.0, &file.initial.q, &vec![0.0; n])
-                        .abs()
-                        > 0.0
+                    && (0..file.model.slip_components(i)).any(|c| {
+                        file.model
+                            .slip(i, c, 0.0, &file.initial.q, &vec![0.0; n])
+                            .abs()
+                            > 0.0
+                    })
             }),
             record: RunRecord {
                 lowest_h: f64::INFINITY,
@@ -1179,6 +1205,11 @@ fn belt_stick_slip_random_states() {
 #[test]
 fn housner_block_random_states() {
     check_model("housner-block.toml");
+}
+
+#[test]
+fn sphere_slide_spin_random_states() {
+    check_model("sphere-slide-spin.toml");
 }
 
 #[test]

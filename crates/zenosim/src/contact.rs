@@ -484,8 +484,9 @@ pub(crate) fn project<L: HybridLagrangian>(
 /// surfaces that move (docs/forces-and-time.md): the energy balance without evaluating again.
 pub(crate) struct ImpactLaw {
     pub impulses: Vec<f64>,
-    /// The tangential impulses where the set has friction (else empty).
-    pub tangential: Vec<f64>,
+    /// The tangential impulses where the set has friction, in the model's slip components
+    /// (the second 0 in a plane; empty without friction).
+    pub tangential: Vec<[f64; 2]>,
     pub loss: f64,
     pub work: f64,
 }
@@ -707,8 +708,8 @@ pub(crate) fn margins<L: HybridLagrangian>(
 /// contact force is `−Aᵢᵀλᵢ`), each with its constraint's index and `∂ₜhᵢ`, in the set's order.
 /// One constraint: `λ = ḧ_free/(A M⁻¹ Aᵀ)` from its mechanics. `w` is scratch of the model's
 /// dimension. With friction (in the states `grips`), `each` also has each contact's tangential
-/// force `fₜ`, slip `s` and the slip's part `s₀ = s − S q̇` that the surface's own motion gives
-/// (0, 0 and 0 without friction).
+/// force `fₜ`, slip `s` and the slip's part `s₀ = s − S q̇` that the surface's own motion gives,
+/// in the model's slip components (the second 0 in a plane; all 0 without friction).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn multipliers<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
@@ -718,32 +719,36 @@ pub(crate) fn multipliers<L: HybridLagrangian>(
     q: &[f64],
     q_dot: &[f64],
     w: &mut [f64],
-    mut each: impl FnMut(usize, f64, f64, f64, f64, f64),
+    mut each: impl FnMut(usize, f64, f64, [f64; 2], [f64; 2], [f64; 2]),
 ) -> Result<(), DynamicsError> {
     let n = q.len();
     if mech.frictional(set) {
         let frame = Frame::of(mech, set, t, q, q_dot)?;
         let forces = frame.forces(set, grips)?;
         for p in 0..frame.len() {
-            let (s, s0) = frame.tangents[p].as_ref().map_or((0.0, 0.0), |t| {
-                let moving: f64 = t.slip.row.iter().zip(q_dot).map(|(a, v)| a * v).sum();
-                (t.slip.s, t.slip.s - moving)
-            });
+            let (mut f, mut s, mut s0) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+            if let Some(t) = &frame.tangents[p] {
+                f = forces.components(p, t);
+                for (c, slip) in t.components_slips().enumerate() {
+                    let moving: f64 = slip.row.iter().zip(q_dot).map(|(a, v)| a * v).sum();
+                    (s[c], s0[c]) = (slip.s, slip.s - moving);
+                }
+            }
             let normal = &frame.normals[p];
-            each(
-                frame.indices[p],
-                -forces.normal[p],
-                normal.h_t,
-                forces.tangent[p],
-                s,
-                s0,
-            );
+            each(frame.indices[p], -forces.normal[p], normal.h_t, f, s, s0);
         }
         return Ok(());
     }
     if let Some(index) = set.only() {
         let normal = mech.normal(index, t, q, q_dot, w)?;
-        each(index, normal.lambda(), normal.h_t, 0.0, 0.0, 0.0);
+        each(
+            index,
+            normal.lambda(),
+            normal.h_t,
+            [0.0; 2],
+            [0.0; 2],
+            [0.0; 2],
+        );
         return Ok(());
     }
     if set.is_empty() {
@@ -757,7 +762,7 @@ pub(crate) fn multipliers<L: HybridLagrangian>(
         .zip(hold.lambda)
         .zip(&contacts.normals)
     {
-        each(index, lambda, normal.h_t, 0.0, 0.0, 0.0);
+        each(index, lambda, normal.h_t, [0.0; 2], [0.0; 2], [0.0; 2]);
     }
     Ok(())
 }
@@ -796,6 +801,7 @@ pub(crate) fn stop_reached_slips<L: HybridLagrangian>(
     mech: &Mechanics<'_, L>,
     set: ActiveSet,
     grips: Grips,
+    scales: &[f64],
     t: f64,
     n: usize,
     y: &mut [f64],
@@ -808,10 +814,7 @@ pub(crate) fn stop_reached_slips<L: HybridLagrangian>(
     let frame = Frame::of(mech, set, t, q, q_dot)?;
     let mut stopped = ActiveSet::empty();
     for (p, &index) in frame.indices.iter().enumerate() {
-        let Some(tangent) = &frame.tangents[p] else {
-            continue;
-        };
-        if slipping.contains(index) && grips.direction(index) * tangent.slip.s <= 0.0 {
+        if slipping.contains(index) && frame.slip_stopped(p, grips, scales) {
             stopped = stopped.with(index);
         }
     }

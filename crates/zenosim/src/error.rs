@@ -171,6 +171,15 @@ pub enum Error {
         /// The constraints of the contact problem.
         constraints: Vec<String>,
     },
+    /// With contacts in space (two slip components, docs/friction.md), zenosim found no slip
+    /// directions that meet Coulomb's law: a limit of its solver for the isotropic cone.
+    #[error("at t = {}: friction in space at constraints {}: zenosim found no slip directions that meet Coulomb's law with the isotropic cone (a contact in space that sticks through an impact while another slips, or directions that did not settle). This is a limit of zenosim's solver for contacts in space, not a fault of the model; write each contact in a plane (one slip formula) where the motion allows", Readable(*t), quoted(constraints))]
+    SpatialFriction {
+        /// When.
+        t: f64,
+        /// The constraints of the contact problem.
+        constraints: Vec<String>,
+    },
     /// The projection onto `h = 0` did not converge.
     #[error("at t = {}: projecting onto constraint '{constraint}' left |h| = {residual:e}; h = 0 may be singular or unreachable here: write h so that ∂h/∂q does not vanish on h = 0, or use the default completion (the general projection)", Readable(*t))]
     Projection {

@@ -214,8 +214,12 @@ pub struct Event {
     pub impulses: Vec<f64>,
     /// For an impact with friction, the tangential impulse `Λₜ,ᵢ` on each constraint of
     /// `contacts` (0 on those without friction; docs/friction.md). Empty where no constraint
-    /// of the impact has friction, and for other events.
+    /// of the impact has friction, and for other events. For a contact in space, the first
+    /// component (in the model's slip components).
     pub tangential: Vec<f64>,
+    /// For an impact on a contact in space, the second component of each tangential impulse,
+    /// as [`Self::tangential`]; empty where no contact of the impact is in space.
+    pub tangential_across: Vec<f64>,
     /// The friction states of the held contacts after the event (docs/friction.md).
     pub grips: Grips,
     /// The state just before.

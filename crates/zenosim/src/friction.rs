@@ -18,6 +18,15 @@ use crate::motion::dot;
 /// Rounding allowance of the sums below, in units of `ε` times the size of their terms.
 const ROUND_OFF: f64 = 64.0 * f64::EPSILON;
 
+/// Sweeps over the contacts in space that slip from rest before their directions must agree.
+const SETTLE_SWEEPS: usize = 50;
+
+/// How many numbers [`Frame::scales`] keeps per contact.
+const SCALES: usize = 5;
+
+/// Turns of the slip directions of contacts in space through an impact before they must agree.
+const IMPACT_SWEEPS: usize = 100;
+
 /// The slip of a contact at one state (docs/friction.md): `s`, its row `S = ∂s/∂q̇`, the part
 /// of `ṡ` that `q̈` does not give, `σ = (∂s/∂q) q̇ + ∂s/∂t`, and the size of `s`'s terms.
 #[derive(Clone, Debug)]
@@ -29,11 +38,12 @@ pub(crate) struct Slip {
     pub scale: f64,
 }
 
-/// The slip of constraint `index`'s contact at `(t, q, q̇)`, by first-order duals: one pass per
-/// velocity for `S`, one along `(q̇, 1)` in `(q, t)` for `σ`.
+/// Component `component` of the slip of constraint `index`'s contact at `(t, q, q̇)`, by
+/// first-order duals: one pass per velocity for `S`, one along `(q̇, 1)` in `(q, t)` for `σ`.
 pub(crate) fn slip<L: HybridLagrangian>(
     model: &L,
     index: usize,
+    component: usize,
     t: f64,
     q: &[f64],
     q_dot: &[f64],
@@ -45,7 +55,7 @@ pub(crate) fn slip<L: HybridLagrangian>(
     let mut row = vec![0.0; n];
     for k in 0..n {
         velocities[k].eps = 1.0;
-        row[k] = model.slip(index, time, &fixed, &velocities).eps;
+        row[k] = model.slip(index, component, time, &fixed, &velocities).eps;
         velocities[k].eps = 0.0;
     }
     let along: Vec<Dual64> = q
@@ -53,7 +63,7 @@ pub(crate) fn slip<L: HybridLagrangian>(
         .zip(q_dot)
         .map(|(&x, &v)| Dual64::new(x, v))
         .collect();
-    let pass = model.slip(index, Dual64::new(t, 1.0), &along, &velocities);
+    let pass = model.slip(index, component, Dual64::new(t, 1.0), &along, &velocities);
     let s = pass.re;
     let moving: f64 = row.iter().zip(q_dot).map(|(a, v)| a * v).sum();
     let scale = row
@@ -70,7 +80,95 @@ pub(crate) fn slip<L: HybridLagrangian>(
     }
 }
 
-/// A frictional contact's tangential side at one state.
+impl Slip {
+    /// The slip along `w` of the two components `a` and `b`: `w₁ a + w₂ b`.
+    fn along(a: &Slip, b: &Slip, w: [f64; 2]) -> Slip {
+        Slip {
+            s: w[0] * a.s + w[1] * b.s,
+            row: a
+                .row
+                .iter()
+                .zip(&b.row)
+                .map(|(x, y)| w[0] * x + w[1] * y)
+                .collect(),
+            sigma: w[0] * a.sigma + w[1] * b.sigma,
+            scale: w[0].abs() * a.scale + w[1].abs() * b.scale,
+        }
+    }
+}
+
+/// One direction of a contact's slip at one state: the slip along it, `M⁻¹ Sᵀ`, and `ṡ` under
+/// the free motion with its rounding.
+#[derive(Clone, Debug)]
+pub(crate) struct Part {
+    pub slip: Slip,
+    /// `M⁻¹ Sᵀ`.
+    direction: Vec<f64>,
+    /// `ṡ` under the free motion: `S M⁻¹ F + σ`.
+    pub s_dot_free: f64,
+    /// The rounding error of `ṡ_free`.
+    pub s_dot_round_off: f64,
+}
+
+impl Part {
+    /// Component `component` of constraint `index`'s slip, with `M⁻¹` from `factor` and the
+    /// free motion's `q̈`.
+    fn of<L: HybridLagrangian>(
+        model: &L,
+        index: usize,
+        component: usize,
+        (t, q, q_dot): (f64, &[f64], &[f64]),
+        factor: &nalgebra::Cholesky<f64, nalgebra::Dyn>,
+        acc_free: &[f64],
+    ) -> Self {
+        let slip = slip(model, index, component, t, q, q_dot);
+        let direction = factor.solve(&DVector::from_column_slice(&slip.row));
+        let direction: Vec<f64> = direction.iter().copied().collect();
+        let along: f64 = dot(&slip.row, acc_free);
+        let terms: f64 = slip
+            .row
+            .iter()
+            .zip(acc_free)
+            .map(|(a, x)| (a * x).abs())
+            .sum();
+        Part {
+            s_dot_free: along + slip.sigma,
+            s_dot_round_off: ROUND_OFF * (terms + slip.sigma.abs()),
+            slip,
+            direction,
+        }
+    }
+
+    /// The part along `w` of the two components `a` and `b` (everything is linear in them).
+    fn along(a: &Part, b: &Part, w: [f64; 2]) -> Part {
+        Part {
+            slip: Slip::along(&a.slip, &b.slip, w),
+            direction: a
+                .direction
+                .iter()
+                .zip(&b.direction)
+                .map(|(x, y)| w[0] * x + w[1] * y)
+                .collect(),
+            s_dot_free: w[0] * a.s_dot_free + w[1] * b.s_dot_free,
+            s_dot_round_off: w[0].abs() * a.s_dot_round_off + w[1].abs() * b.s_dot_round_off,
+        }
+    }
+}
+
+/// A contact in space (docs/friction.md): its two slip components, the unit vector `basis`
+/// (in their plane) its [`Tangent`]'s main part runs along, and the part `cross` across it,
+/// along `(−basis₂, basis₁)`. Slipping, the main part runs along the slip (the cross part's
+/// slip is 0); sticking, both are held.
+#[derive(Clone, Debug)]
+pub(crate) struct Space {
+    parts: [Part; 2],
+    pub basis: [f64; 2],
+    pub cross: Part,
+}
+
+/// A frictional contact's tangential side at one state: in a plane, its one slip; in space,
+/// the slip along [`Space::basis`] (the slip's own direction while it slips).
+#[derive(Clone, Debug)]
 pub(crate) struct Tangent {
     pub mu_static: f64,
     pub mu_kinetic: f64,
@@ -83,12 +181,90 @@ pub(crate) struct Tangent {
     pub s_dot_round_off: f64,
     /// The slip speed below which the contact is at rest ([`Mechanics::slip_floor`]).
     floor: f64,
+    /// A contact in space: its second slip direction.
+    pub space: Option<Box<Space>>,
 }
 
 impl Tangent {
-    /// Whether the contact's slip is 0: to its rounding, or below the run's floor.
+    /// Whether the contact's slip is 0: to its rounding, or below the run's floor (in space,
+    /// the slip's length).
     pub fn at_rest(&self) -> bool {
-        self.slip.s.abs() <= (ROUND_OFF * self.slip.scale).max(self.floor)
+        let (size, scale) = match &self.space {
+            None => (self.slip.s.abs(), self.slip.scale),
+            Some(space) => (
+                self.slip.s.hypot(space.cross.slip.s),
+                self.slip.scale + space.cross.slip.scale,
+            ),
+        };
+        size <= (ROUND_OFF * scale).max(self.floor)
+    }
+
+    /// Whether the slip is not 0 to its rounding (in space, its length): its direction is
+    /// then known.
+    pub fn moving(&self) -> bool {
+        let v = self.slip_vector();
+        let scale = self.slip.scale + self.space.as_ref().map_or(0.0, |s| s.cross.slip.scale);
+        v[0].hypot(v[1]) > ROUND_OFF * scale
+    }
+
+    /// The slip in the model's components: `(s, 0)` in a plane.
+    pub fn slip_vector(&self) -> [f64; 2] {
+        match &self.space {
+            None => [self.slip.s, 0.0],
+            Some(space) => {
+                let [b1, b2] = space.basis;
+                let c = space.cross.slip.s;
+                [b1 * self.slip.s - b2 * c, b2 * self.slip.s + b1 * c]
+            }
+        }
+    }
+
+    /// The vector with parts `main` along the basis and `cross` across it, in the model's
+    /// components (`(main, 0)` in a plane).
+    pub fn components(&self, main: f64, cross: f64) -> [f64; 2] {
+        match &self.space {
+            None => [main, 0.0],
+            Some(space) => {
+                let [b1, b2] = space.basis;
+                [b1 * main - b2 * cross, b2 * main + b1 * cross]
+            }
+        }
+    }
+
+    /// The slip's components in the model's terms: the one in a plane, the two in space.
+    pub fn components_slips(&self) -> impl Iterator<Item = &Slip> {
+        let parts = self
+            .space
+            .as_ref()
+            .map(|space| [&space.parts[0].slip, &space.parts[1].slip]);
+        match parts {
+            None => [&self.slip, &self.slip].into_iter().take(1),
+            Some(parts) => parts.into_iter().take(2),
+        }
+    }
+
+    /// The slip in the model's components after the velocities changed from `before` (the
+    /// frame's own) to `after`.
+    pub fn slip_after(&self, before: &[f64], after: &[f64]) -> [f64; 2] {
+        let mut out = [0.0; 2];
+        for (c, slip) in self.components_slips().enumerate() {
+            out[c] = slip.s + dot(&slip.row, after) - dot(&slip.row, before);
+        }
+        out
+    }
+
+    /// The part along `basis` of a contact in space becomes the main one (nothing in a plane).
+    fn rotate(&mut self, basis: [f64; 2]) {
+        let Some(space) = &mut self.space else { return };
+        let norm = basis[0].hypot(basis[1]);
+        let basis = [basis[0] / norm, basis[1] / norm];
+        let main = Part::along(&space.parts[0], &space.parts[1], basis);
+        space.cross = Part::along(&space.parts[0], &space.parts[1], [-basis[1], basis[0]]);
+        space.basis = basis;
+        self.slip = main.slip;
+        self.direction = main.direction;
+        self.s_dot_free = main.s_dot_free;
+        self.s_dot_round_off = main.s_dot_round_off;
     }
 }
 
@@ -133,6 +309,7 @@ fn paradox(set: ActiveSet) -> DynamicsError {
 
 /// The contacts of a set at one state `(t, q, q̇)`, with their friction: the normal rows `Aᵢ`
 /// and directions `M⁻¹Aᵢᵀ` and responses, and for those with friction, their tangential side.
+#[derive(Clone)]
 pub(crate) struct Frame {
     n: usize,
     /// The constraint indices, increasing.
@@ -151,17 +328,23 @@ pub(crate) struct Frame {
 pub(crate) struct Forces {
     /// `fₙ` of each contact, in the set's order.
     pub normal: Vec<f64>,
-    /// `fₜ` of each contact (0 without friction), in the set's order.
+    /// `fₜ` of each contact (0 without friction), in the set's order: in space, along its
+    /// basis.
     pub tangent: Vec<f64>,
+    /// In space, the tangential force across the basis (0 otherwise).
+    pub cross: Vec<f64>,
+    /// In space, the basis the forces were found in (`(1, 0)` otherwise).
+    pub basis: Vec<[f64; 2]>,
     /// `q̈`.
     pub q_ddot: Vec<f64>,
 }
 
-/// What the impact law with friction did: the normal and tangential impulses in the set's order,
-/// its loss and the work of the moving surfaces' impulses.
+/// What the impact law with friction did: the normal and tangential impulses in the set's order
+/// (the tangential ones in the model's slip components), its loss and the work of the moving
+/// surfaces' impulses.
 pub(crate) struct FrictionalImpact {
     pub normal: Vec<f64>,
-    pub tangent: Vec<f64>,
+    pub tangent: Vec<[f64; 2]>,
     pub loss: f64,
     pub work: f64,
 }
@@ -171,6 +354,21 @@ pub(crate) struct FrictionalImpact {
 pub(crate) struct Decision {
     pub held: ActiveSet,
     pub grips: Grips,
+}
+
+impl Forces {
+    /// The tangential force of the contact at position `p` (with its tangent `t`) in the
+    /// model's slip components.
+    pub fn components(&self, p: usize, t: &Tangent) -> [f64; 2] {
+        match &t.space {
+            None => [self.tangent[p], 0.0],
+            Some(_) => {
+                let [b1, b2] = self.basis[p];
+                let (main, cross) = (self.tangent[p], self.cross[p]);
+                [b1 * main - b2 * cross, b2 * main + b1 * cross]
+            }
+        }
+    }
 }
 
 impl Frame {
@@ -224,25 +422,32 @@ impl Frame {
                 .friction
                 .filter(|_| frictional)
                 .map(|friction| {
-                    let slip = slip(model, index, t, q, q_dot);
-                    let direction = factor.solve(&DVector::from_column_slice(&slip.row));
-                    let direction: Vec<f64> = direction.iter().copied().collect();
-                    let along: f64 = dot(&slip.row, &frame.acc_free);
-                    let terms: f64 = slip
-                        .row
-                        .iter()
-                        .zip(&frame.acc_free)
-                        .map(|(a, x)| (a * x).abs())
-                        .sum();
-                    Tangent {
+                    let state = (t, q, q_dot);
+                    let part = |c| Part::of(model, index, c, state, &factor, &frame.acc_free);
+                    let main = part(0);
+                    let space = (model.slip_components(index) == 2).then(|| {
+                        let cross = part(1);
+                        Box::new(Space {
+                            parts: [main.clone(), cross.clone()],
+                            basis: [1.0, 0.0],
+                            cross,
+                        })
+                    });
+                    let mut tangent = Tangent {
                         mu_static: friction.static_coefficient,
                         mu_kinetic: friction.kinetic_coefficient,
-                        s_dot_free: along + slip.sigma,
-                        s_dot_round_off: ROUND_OFF * (terms + slip.sigma.abs()),
                         floor: mech.slip_floor(),
-                        slip,
-                        direction,
+                        slip: main.slip,
+                        direction: main.direction,
+                        s_dot_free: main.s_dot_free,
+                        s_dot_round_off: main.s_dot_round_off,
+                        space,
+                    };
+                    // In space, the main part runs along the slip while it slips.
+                    if tangent.space.is_some() && tangent.moving() {
+                        tangent.rotate(tangent.slip_vector());
                     }
+                    tangent
                 });
             frame.tangents.push(tangent);
         }
@@ -273,25 +478,47 @@ impl Frame {
         &self.directions[p * self.n..(p + 1) * self.n]
     }
 
-    /// Row `r` of the contacts' rows `A₁ … A_k` followed by the slip rows `S` of the contacts
-    /// `extra` (positions in the frame, each with friction).
-    fn stacked_row(&self, extra: &[usize], r: usize) -> &[f64] {
+    /// The slip part `extra` names: the main part of the contact at position `p`, or its
+    /// part across (`(p, true)`, in space).
+    fn part(&self, (p, cross): (usize, bool)) -> (&Slip, &[f64], f64) {
+        let t = self.tangent(p);
+        match (&t.space, cross) {
+            (Some(space), true) => (
+                &space.cross.slip,
+                &space.cross.direction,
+                space.cross.s_dot_free,
+            ),
+            _ => (&t.slip, &t.direction, t.s_dot_free),
+        }
+    }
+
+    /// Row `r` of the contacts' rows `A₁ … A_k` followed by the slip rows `S` of the parts
+    /// `extra` ([`Frame::part`]).
+    fn stacked_row(&self, extra: &[(usize, bool)], r: usize) -> &[f64] {
         let k = self.len();
         if r < k {
             self.row(r)
         } else {
-            &self.tangent(extra[r - k]).slip.row
+            &self.part(extra[r - k]).0.row
         }
     }
 
     /// Column `r` of `M⁻¹` times the rows of [`Frame::stacked_row`]: `M⁻¹Aᵀ`, then `M⁻¹Sᵀ`.
-    fn stacked_direction(&self, extra: &[usize], r: usize) -> &[f64] {
+    fn stacked_direction(&self, extra: &[(usize, bool)], r: usize) -> &[f64] {
         let k = self.len();
         if r < k {
             self.direction(r)
         } else {
-            &self.tangent(extra[r - k]).direction
+            self.part(extra[r - k]).1
         }
+    }
+
+    /// The parts a sticking contact holds: its main one, and in space the one across.
+    fn held_parts(&self, p: usize) -> impl Iterator<Item = (usize, bool)> {
+        let space = self.tangent(p).space.is_some();
+        [(p, false), (p, true)]
+            .into_iter()
+            .take(1 + usize::from(space))
     }
 
     /// The tangential side of the contact at position `p`, which has friction.
@@ -314,14 +541,34 @@ impl Frame {
     /// `grips`: the normal forces, the sticking contacts' tangential forces (`ṡ = 0`), the
     /// slipping contacts' kinetic ones, and the motion. An error where the states admit no
     /// unique motion (Painlevé's paradox: the system is singular, or the normal forces of the
-    /// slipping contacts would grow as their normal accelerations fall).
+    /// slipping contacts would grow as their normal accelerations fall). A contact in space that
+    /// slips from rest slips the way its own force drives it ([`Frame::settled`]).
     pub fn forces(&self, set: ActiveSet, grips: Grips) -> Result<Forces, DynamicsError> {
+        match self.settled(set, grips)? {
+            Some(frame) => frame.forces_held(set, grips, &[]),
+            None => self.forces_held(set, grips, &[]),
+        }
+    }
+
+    /// [`Frame::forces`] in the frame's bases as they are, with the parts across of the
+    /// slipping contacts at the positions `across` held too (their slip across stays 0).
+    fn forces_held(
+        &self,
+        set: ActiveSet,
+        grips: Grips,
+        across: &[usize],
+    ) -> Result<Forces, DynamicsError> {
         let k = self.len();
         let n = self.n;
-        // The unknowns: every normal force, then the sticking contacts' tangential forces.
-        let stick: Vec<usize> = (0..k)
-            .filter(|&p| grips.stick.contains(self.indices[p]) && self.tangents[p].is_some())
-            .collect();
+        // The unknowns: every normal force, then the sticking contacts' tangential forces (two
+        // in space), then the held parts across.
+        let mut stick: Vec<(usize, bool)> = Vec::new();
+        for p in 0..k {
+            if grips.stick.contains(self.indices[p]) && self.tangents[p].is_some() {
+                stick.extend(self.held_parts(p));
+            }
+        }
+        stick.extend(across.iter().map(|&p| (p, true)));
         let size = k + stick.len();
         // Each unknown's column, M⁻¹ applied: a normal force's along M⁻¹Aᵀ, less μₖ times M⁻¹Sᵀ
         // in its slip's direction where it slips; a tangential force's along M⁻¹Sᵀ.
@@ -336,8 +583,8 @@ impl Frame {
                 }
             }
         }
-        for (u, &p) in stick.iter().enumerate() {
-            columns[(k + u) * n..(k + u + 1) * n].copy_from_slice(&self.tangent(p).direction);
+        for (u, &part) in stick.iter().enumerate() {
+            columns[(k + u) * n..(k + u + 1) * n].copy_from_slice(self.part(part).1);
         }
         let mut g = DMatrix::zeros(size, size);
         let mut rhs = DVector::zeros(size);
@@ -348,7 +595,7 @@ impl Frame {
             rhs[r] = -if r < k {
                 self.normals[r].h_ddot_free
             } else {
-                self.tangent(stick[r - k]).s_dot_free
+                self.part(stick[r - k]).2
             };
         }
         // The states are given: the forces solve a square system, which is singular only where
@@ -364,60 +611,205 @@ impl Frame {
         }
         let normal: Vec<f64> = (0..k).map(|p| x[p]).collect();
         let mut tangent = vec![0.0; k];
+        let mut cross = vec![0.0; k];
         for p in 0..k {
             let sign = grips.direction(self.indices[p]);
             if let (Some(t), true) = (&self.tangents[p], sign != 0.0) {
                 tangent[p] = -t.mu_kinetic * sign * normal[p];
             }
         }
-        for (u, &p) in stick.iter().enumerate() {
-            tangent[p] = x[k + u];
+        for (u, &(p, across)) in stick.iter().enumerate() {
+            if across {
+                cross[p] = x[k + u];
+            } else {
+                tangent[p] = x[k + u];
+            }
         }
         if !q_ddot
             .iter()
             .chain(&normal)
             .chain(&tangent)
+            .chain(&cross)
             .all(|x| x.is_finite())
         {
             return Err(DynamicsError::NonFinite);
         }
+        let basis = self
+            .tangents
+            .iter()
+            .map(|t| {
+                t.as_ref()
+                    .and_then(|t| t.space.as_ref())
+                    .map_or([1.0, 0.0], |space| space.basis)
+            })
+            .collect();
         Ok(Forces {
             normal,
             tangent,
+            cross,
+            basis,
             q_ddot,
         })
+    }
+
+    /// Where contacts in space slip in `grips` from rest (their slip is 0), the frame with
+    /// each one's basis along the direction it slips: the kinetic force along `−basis` must
+    /// drive the slip along `basis`, so the force across, were the slip across held at 0,
+    /// is 0 ([`Frame::slip_direction`]; jointly, contact by contact, for several). `None`
+    /// where there is none such.
+    fn settled(&self, set: ActiveSet, grips: Grips) -> Result<Option<Frame>, DynamicsError> {
+        let moving: Vec<usize> = (0..self.len())
+            .filter(|&p| {
+                self.tangents[p].as_ref().is_some_and(|t| {
+                    t.space.is_some() && !t.moving() && grips.direction(self.indices[p]) != 0.0
+                })
+            })
+            .collect();
+        if moving.is_empty() {
+            return Ok(None);
+        }
+        let mut frame = self.clone();
+        for _ in 0..SETTLE_SWEEPS {
+            let mut change = 0.0_f64;
+            for &p in &moving {
+                // Where it has no such direction (a slip that has just stopped, seen in the
+                // states before law 1 decides again), its basis stays.
+                let Some(new) = frame.slip_direction(set, grips, p) else {
+                    continue;
+                };
+                let old = frame
+                    .tangent(p)
+                    .space
+                    .as_ref()
+                    .map_or([1.0, 0.0], |s| s.basis);
+                change = change.max((new[0] - old[0]).hypot(new[1] - old[1]));
+                if let Some(t) = frame.tangents[p].as_mut() {
+                    t.rotate(new);
+                }
+            }
+            if moving.len() == 1 || change <= 1e-13 {
+                return Ok(Some(frame));
+            }
+        }
+        Err(DynamicsError::SpatialFriction { constraints: set })
+    }
+
+    /// The direction in which the contact in space at position `p`, at rest, slips in the
+    /// states `grips` (the others as they are): the unit vector `b` at which, the kinetic force
+    /// along `−b` and the slip across `b` held, the force across is 0 and the slip's
+    /// acceleration along `b` is positive. Bracketed on a ring of angles, then bisected to
+    /// rounding. `None` where there is none.
+    fn slip_direction(&self, set: ActiveSet, grips: Grips, p: usize) -> Option<[f64; 2]> {
+        let mut frame = self.clone();
+        let mut at = |angle: f64| -> Option<(f64, f64)> {
+            let basis = [angle.cos(), angle.sin()];
+            frame.tangents[p].as_mut()?.rotate(basis);
+            let forces = frame.forces_held(set, grips, &[p]).ok()?;
+            let t = frame.tangent(p);
+            let along = dot(&t.slip.row, &forces.q_ddot) + t.slip.sigma;
+            Some((forces.cross[p], along))
+        };
+        let ring = 48;
+        let step = std::f64::consts::TAU / f64::from(ring);
+        let mut best: Option<(f64, f64)> = None;
+        let mut previous = at(0.0);
+        for i in 1..=ring {
+            let angle = step * f64::from(i);
+            let here = at(angle);
+            if let (Some((g0, a0)), Some((g1, a1))) = (previous, here) {
+                if g0 * g1 <= 0.0 && a0 > 0.0 && a1 > 0.0 {
+                    let (mut low, mut high, mut g_low) = (angle - step, angle, g0);
+                    for _ in 0..64 {
+                        let mid = 0.5 * (low + high);
+                        if mid <= low || mid >= high {
+                            break;
+                        }
+                        let Some((g, _)) = at(mid) else { break };
+                        if (g <= 0.0) == (g_low <= 0.0) {
+                            low = mid;
+                            g_low = g;
+                        } else {
+                            high = mid;
+                        }
+                    }
+                    let root = 0.5 * (low + high);
+                    let along = at(root).map_or(0.0, |(_, a)| a);
+                    if best.is_none_or(|(_, a)| along > a) {
+                        best = Some((root, along));
+                    }
+                }
+            }
+            previous = here;
+        }
+        best.map(|(angle, _)| [angle.cos(), angle.sin()])
     }
 
     /// How far each contact of the held frame is from a transition in the states `grips`,
     /// positive where one happens (docs/friction.md): a normal force that would pull, a
     /// sticking contact's tangential force beyond the cone (`|fₜ| − μₛ fₙ`), a slipping contact's
-    /// slip past 0 (`−s` in its direction). Each is divided by the fixed scale `scales` gives
-    /// it (one per contact and kind, [`Frame::scales`]), so that they compare.
+    /// slip past 0 (`−s` in its direction; in space, along the direction it slipped when the
+    /// mode started). Each is divided by the fixed scale `scales` gives it (per contact and
+    /// kind, [`Frame::scales`]), so that they compare.
     pub fn margins(&self, forces: &Forces, grips: Grips, scales: &[f64]) -> f64 {
-        let mut largest = f64::NEG_INFINITY;
-        for p in 0..self.len() {
-            let index = self.indices[p];
-            let f = forces.normal[p];
-            // The rounding of the normal force, from that of ḧ_free through A M⁻¹ Aᵀ.
-            let round = self.normals[p].h_ddot_round_off / self.normals[p].s + ROUND_OFF * f.abs();
-            largest = largest.max((-f - round) / scales[3 * p]);
-            if let Some(t) = &self.tangents[p] {
-                if grips.stick.contains(index) {
-                    // Beyond the cone by more than the rounding of the forces.
-                    let beyond = forces.tangent[p].abs()
-                        - t.mu_static * f
-                        - ROUND_OFF * (forces.tangent[p].abs() + t.mu_static * f.abs())
-                        - t.mu_static * round;
-                    largest = largest.max(beyond / scales[3 * p + 1]);
-                } else {
-                    let sign = grips.direction(index);
-                    if sign != 0.0 {
-                        largest = largest.max(-sign * t.slip.s / scales[3 * p + 2]);
-                    }
-                }
+        (0..self.len())
+            .flat_map(|p| self.contact_margins(p, forces, grips, scales))
+            .fold(f64::NEG_INFINITY, |m, (margin, _)| m.max(margin))
+    }
+
+    /// The margins of [`Frame::margins`] of the contact at position `p`, each with its kind:
+    /// 0 its normal force, 1 its cone, 2 its slip.
+    fn contact_margins(
+        &self,
+        p: usize,
+        forces: &Forces,
+        grips: Grips,
+        scales: &[f64],
+    ) -> impl Iterator<Item = (f64, usize)> {
+        let index = self.indices[p];
+        let f = forces.normal[p];
+        // The rounding of the normal force, from that of ḧ_free through A M⁻¹ Aᵀ.
+        let round = self.normals[p].h_ddot_round_off / self.normals[p].s + ROUND_OFF * f.abs();
+        let normal = Some(((-f - round) / scales[SCALES * p], 0));
+        let mut tangential = None;
+        if let Some(t) = &self.tangents[p] {
+            if grips.stick.contains(index) {
+                // Beyond the cone by more than the rounding of the forces.
+                let size = forces.tangent[p].hypot(forces.cross[p]);
+                let beyond = size
+                    - t.mu_static * f
+                    - ROUND_OFF * (size + t.mu_static * f.abs())
+                    - t.mu_static * round;
+                tangential = Some((beyond / scales[SCALES * p + 1], 1));
+            } else if let Some(slip) = self.slip_past(p, grips, scales) {
+                tangential = Some((slip / scales[SCALES * p + 2], 2));
             }
         }
-        largest
+        normal.into_iter().chain(tangential)
+    }
+
+    /// How far the slipping contact at position `p` has slipped past 0: `−s` in its
+    /// direction, in space along the direction kept in `scales` when the mode started. `None`
+    /// where it does not slip.
+    fn slip_past(&self, p: usize, grips: Grips, scales: &[f64]) -> Option<f64> {
+        let t = self.tangents[p].as_ref()?;
+        let sign = grips.direction(self.indices[p]);
+        if sign == 0.0 {
+            return None;
+        }
+        Some(match &t.space {
+            None => -sign * t.slip.s,
+            Some(_) => {
+                let v = t.slip_vector();
+                -sign * (scales[SCALES * p + 3] * v[0] + scales[SCALES * p + 4] * v[1])
+            }
+        })
+    }
+
+    /// Whether the contact at position `p`, slipping in `grips`, has stopped: its slip is 0 or
+    /// has turned against its direction (a root of its slip margin).
+    pub fn slip_stopped(&self, p: usize, grips: Grips, scales: &[f64]) -> bool {
+        self.slip_past(p, grips, scales)
+            .is_some_and(|past| past >= 0.0)
     }
 
     /// The change of state the largest margin of [`Frame::margins`] stands for: the contact
@@ -432,28 +824,9 @@ impl Frame {
     ) -> (ActiveSet, Grips) {
         let mut best = (f64::NEG_INFINITY, 0, 0);
         for p in 0..self.len() {
-            let index = self.indices[p];
-            let f = forces.normal[p];
-            let round = self.normals[p].h_ddot_round_off / self.normals[p].s + ROUND_OFF * f.abs();
-            let mut consider = |margin: f64, kind: usize| {
+            for (margin, kind) in self.contact_margins(p, forces, grips, scales) {
                 if margin > best.0 {
                     best = (margin, p, kind);
-                }
-            };
-            consider((-f - round) / scales[3 * p], 0);
-            if let Some(t) = &self.tangents[p] {
-                if grips.stick.contains(index) {
-                    // Beyond the cone by more than the rounding of the forces.
-                    let beyond = forces.tangent[p].abs()
-                        - t.mu_static * f
-                        - ROUND_OFF * (forces.tangent[p].abs() + t.mu_static * f.abs())
-                        - t.mu_static * round;
-                    consider(beyond / scales[3 * p + 1], 1);
-                } else {
-                    let sign = grips.direction(index);
-                    if sign != 0.0 {
-                        consider(-sign * t.slip.s / scales[3 * p + 2], 2);
-                    }
                 }
             }
         }
@@ -462,12 +835,14 @@ impl Frame {
         let only = ActiveSet::single(index);
         let mut grips = grips;
         let mut held = set;
+        let in_space = self.tangents[p].as_ref().is_some_and(|t| t.space.is_some());
         match kind {
             0 => held = set.minus(only),
             1 => {
                 grips.stick = grips.stick.minus(only);
-                // It slips against the force that held it at the cone's edge.
-                if forces.tangent[p] > 0.0 {
+                // It slips against the force that held it at the cone's edge (in space,
+                // forwards along the direction its force drives it, found from rest).
+                if forces.tangent[p] > 0.0 && !in_space {
                     grips.backward = grips.backward.with(index);
                 } else {
                     grips.forward = grips.forward.with(index);
@@ -482,15 +857,17 @@ impl Frame {
         (held, grips.within(held))
     }
 
-    /// The scales of [`Frame::margins`] in the states `grips`, three per contact: its normal
-    /// force, its tangential force, its slip, each the largest of its size now and its rounding
-    /// (taken when a mode starts, and kept through it).
+    /// The scales of [`Frame::margins`] in the states `grips`, [`SCALES`] per contact: its
+    /// normal force, its tangential force, its slip, each the largest of its size now and its
+    /// rounding, then in space the direction it slips in (taken when a mode starts, and kept
+    /// through it).
     pub fn scales(&self, forces: &Forces) -> Vec<f64> {
-        let mut scales = Vec::with_capacity(3 * self.len());
+        let mut scales = Vec::with_capacity(SCALES * self.len());
         let force_scale = forces
             .normal
             .iter()
             .chain(&forces.tangent)
+            .chain(&forces.cross)
             .fold(0.0_f64, |m, f| m.max(f.abs()))
             .max(f64::MIN_POSITIVE);
         for p in 0..self.len() {
@@ -501,6 +878,7 @@ impl Frame {
                 .map_or(1.0, |t| t.slip.s.abs().max(t.slip.scale))
                 .max(f64::MIN_POSITIVE);
             scales.push(slip);
+            scales.extend(forces.basis[p]);
         }
         scales
     }
@@ -539,8 +917,9 @@ impl Frame {
         }
         let mut matrix = vec![0.0; size * size];
         let mut q = vec![0.0; size];
+        let extra: Vec<(usize, bool)> = candidates.iter().map(|&p| (p, false)).collect();
         for r in 0..k + m {
-            let row = self.stacked_row(candidates, r);
+            let row = self.stacked_row(&extra, r);
             for c in 0..k + m {
                 matrix[r * size + c] = dot(row, &columns[c * n..(c + 1) * n]);
             }
@@ -567,35 +946,74 @@ impl Frame {
     /// (Painlevé's paradox).
     pub fn decide(&self, set: ActiveSet) -> Result<Decision, DynamicsError> {
         let k = self.len();
-        let candidates: Vec<usize> = (0..k)
+        let at_rest: Vec<usize> = (0..k)
             .filter(|&p| self.tangents[p].as_ref().is_some_and(Tangent::at_rest))
             .collect();
-        let m = candidates.len();
         // Where every contact can hold, those at rest sticking and the others slipping on, in
         // equilibrium (every normal force pushing, every sticking force within its static
         // cone), that is law 1's answer: the contact problem with friction may have others
         // (a block resting on two rough corners could also pivot on one, its friction
         // lifting the other), and a run at rest must stay at rest.
-        if let Some(decision) = self.all_held(set, &candidates) {
+        if let Some(decision) = self.all_held(set, &at_rest) {
             return Ok(decision);
         }
-        let size = k + 2 * m;
-        // Contacts at rest enter with μₛ, the others with μₖ in their slip's direction.
-        let mu: Vec<f64> = self
-            .tangents
+        // Contacts in space at rest that cannot all stick slip from rest, forwards along a
+        // basis: for the LCP, against the force that would have held them (the held motion
+        // then finds the exact direction, `Frame::settled`). The others are candidates.
+        let (in_space, candidates): (Vec<usize>, Vec<usize>) = at_rest
             .iter()
-            .map(|t| {
-                t.as_ref().map_or(0.0, |t| {
-                    if t.at_rest() {
+            .partition(|&&p| self.tangent(p).space.is_some());
+        if in_space.is_empty() {
+            return self.decide_lcp(set, &candidates);
+        }
+        let mut frame = self.clone();
+        let all_stick = at_rest
+            .iter()
+            .fold(ActiveSet::empty(), |a, &p| a.with(self.indices[p]));
+        let held = self.forces_held(
+            set,
+            Grips {
+                stick: all_stick,
+                ..Grips::none()
+            },
+            &[],
+        );
+        for &p in &in_space {
+            let t = frame.tangents[p]
+                .as_mut()
+                .expect("a contact in space has friction");
+            let against = held
+                .as_ref()
+                .map_or([-1.0, 0.0], |f| t.components(f.tangent[p], f.cross[p]));
+            if against[0].hypot(against[1]) > 0.0 {
+                t.rotate([-against[0], -against[1]]);
+            }
+        }
+        frame.decide_lcp(set, &candidates)
+    }
+
+    /// Law 1's LCP (Pfeiffer and Glocker) with the contacts at positions `candidates` free to
+    /// stick; the others with friction slip, in the direction of their slip or, at rest (in
+    /// space), forwards along their basis.
+    fn decide_lcp(&self, set: ActiveSet, candidates: &[usize]) -> Result<Decision, DynamicsError> {
+        let k = self.len();
+        let m = candidates.len();
+        let size = k + 2 * m;
+        // Candidates enter with μₛ, the others with μₖ in their slip's direction.
+        let direction = |t: &Tangent| if t.slip.s < 0.0 { -1.0 } else { 1.0 };
+        let mu: Vec<f64> = (0..k)
+            .map(|p| {
+                self.tangents[p].as_ref().map_or(0.0, |t| {
+                    if candidates.contains(&p) {
                         t.mu_static
                     } else {
-                        t.mu_kinetic * t.slip.s.signum()
+                        t.mu_kinetic * direction(t)
                     }
                 })
             })
             .collect();
         let normal_q: Vec<f64> = self.normals.iter().map(|n| n.h_ddot_free).collect();
-        let (matrix, q, _) = self.coulomb_lcp(&candidates, &mu, &normal_q, |t| t.s_dot_free);
+        let (matrix, q, _) = self.coulomb_lcp(candidates, &mu, &normal_q, |t| t.s_dot_free);
         let round_off: Vec<f64> = (0..size)
             .map(|r| {
                 if r < k {
@@ -627,18 +1045,14 @@ impl Frame {
             if !held.contains(index) {
                 continue;
             }
-            if !t.at_rest() {
-                if t.slip.s > 0.0 {
+            let Some(u) = candidates.iter().position(|&c| c == p) else {
+                if direction(t) > 0.0 {
                     grips.forward = grips.forward.with(index);
                 } else {
                     grips.backward = grips.backward.with(index);
                 }
                 continue;
-            }
-            let u = candidates
-                .iter()
-                .position(|&c| c == p)
-                .expect("a contact at rest is a candidate");
+            };
             let forward = w[k + u];
             let backward = z[k + m + u];
             let round = t.s_dot_round_off
@@ -684,9 +1098,8 @@ impl Frame {
                 return None;
             }
             if let Some(t) = &self.tangents[p] {
-                if candidates.contains(&p)
-                    && forces.tangent[p].abs()
-                        > t.mu_static * f + ROUND_OFF * (f.abs() + forces.tangent[p].abs())
+                let size = forces.tangent[p].hypot(forces.cross[p]);
+                if candidates.contains(&p) && size > t.mu_static * f + ROUND_OFF * (f.abs() + size)
                 {
                     return None;
                 }
@@ -713,16 +1126,16 @@ impl Frame {
         let t_before = self.kinetic(&before);
         let approach: Vec<f64> = self.normals.iter().map(|normal| normal.a_q_dot).collect();
         let attempt =
-            |scale: f64, out: &mut [f64]| -> Result<(Vec<f64>, Vec<f64>), DynamicsError> {
+            |scale: f64, out: &mut [f64]| -> Result<(Vec<f64>, Vec<[f64; 2]>), DynamicsError> {
                 out.copy_from_slice(&before);
                 let e: Vec<f64> = restitution.iter().map(|e| e * scale).collect();
-                self.impact_with(set, &e, &approach, out)
+                self.impact_any(set, &e, &approach, out)
             };
         let mut after = before.clone();
         let (mut normal, mut tangent) = attempt(1.0, &mut after)?;
         // The law creates energy where its own loss `−½ Σ Λₙ (ḣ⁺ + ḣ⁻) − ½ Σ Λₜ (s⁺ + s⁻)` is
         // negative beyond rounding (what a surface that moves puts in is not the law's).
-        let gained = |result: &(Vec<f64>, Vec<f64>), after: &[f64]| {
+        let gained = |result: &(Vec<f64>, Vec<[f64; 2]>), after: &[f64]| {
             let (loss, _) = self.loss_and_work(&result.0, &result.1, h_t, &before, after);
             loss < -ROUND_OFF * (t_before + self.kinetic(after))
         };
@@ -763,7 +1176,7 @@ impl Frame {
     fn loss_and_work(
         &self,
         normal: &[f64],
-        tangent: &[f64],
+        tangent: &[[f64; 2]],
         h_t: &[f64],
         before: &[f64],
         after: &[f64],
@@ -776,11 +1189,12 @@ impl Frame {
             loss -= 0.5 * normal[p] * (h_after + h_before);
             work -= normal[p] * h_t[p];
             if let Some(t) = &self.tangents[p] {
-                let s0 = t.slip.s - dot(&t.slip.row, before);
-                let s_before = t.slip.s;
-                let s_after = dot(&t.slip.row, after) + s0;
-                loss -= 0.5 * tangent[p] * (s_after + s_before);
-                work -= tangent[p] * s0;
+                for (c, slip) in t.components_slips().enumerate() {
+                    let s0 = slip.s - dot(&slip.row, before);
+                    let s_after = dot(&slip.row, after) + s0;
+                    loss -= 0.5 * tangent[p][c] * (s_after + slip.s);
+                    work -= tangent[p][c] * s0;
+                }
             }
         }
         (loss, work)
@@ -797,7 +1211,108 @@ impl Frame {
         q_dot: &mut [f64],
     ) -> Result<(), DynamicsError> {
         let plastic = vec![0.0; self.len()];
-        self.impact_with(set, &plastic, approach, q_dot).map(|_| ())
+        self.impact_any(set, &plastic, approach, q_dot).map(|_| ())
+    }
+
+    /// The impact law with friction for the restitutions `e`, each contact approaching at the
+    /// normal velocity `approach`, from `q̇` (updated): the normal impulses and the tangential
+    /// ones in the model's slip components. In a plane, [`Frame::impact_with`]; with contacts
+    /// in space, [`Frame::impact_in_space`].
+    fn impact_any(
+        &self,
+        set: ActiveSet,
+        e: &[f64],
+        approach: &[f64],
+        q_dot: &mut [f64],
+    ) -> Result<(Vec<f64>, Vec<[f64; 2]>), DynamicsError> {
+        let in_space: Vec<usize> = (0..self.len())
+            .filter(|&p| self.tangents[p].as_ref().is_some_and(|t| t.space.is_some()))
+            .collect();
+        if in_space.is_empty() {
+            let (normal, tangent) = self.impact_with(set, e, approach, q_dot, &[])?;
+            return Ok((normal, tangent.iter().map(|&f| [f, 0.0]).collect()));
+        }
+        self.impact_in_space(set, e, approach, q_dot, &in_space)
+    }
+
+    /// The impact law with friction where the contacts at `in_space` are in space: every
+    /// contact sticks through the impact where the impulses that takes push and lie within the
+    /// static cones (the isotropic ones); otherwise those in space slide at the kinetic
+    /// coefficient against their slip after the impact, whose direction is found by fixed
+    /// point (from the slip before), the others as [`Frame::impact_with`] decides.
+    fn impact_in_space(
+        &self,
+        set: ActiveSet,
+        e: &[f64],
+        approach: &[f64],
+        q_dot: &mut [f64],
+        in_space: &[usize],
+    ) -> Result<(Vec<f64>, Vec<[f64; 2]>), DynamicsError> {
+        let k = self.len();
+        let before = q_dot.to_vec();
+        let stick = (0..k)
+            .filter(|&p| self.tangents[p].is_some())
+            .fold(ActiveSet::empty(), |a, p| a.with(self.indices[p]));
+        let normal_rhs: Vec<f64> = (0..k).map(|r| (1.0 + e[r]) * approach[r]).collect();
+        let mu = self.project_rows(set, stick, &normal_rhs, q_dot)?;
+        // The impulses are −μ: normal ones first, then each contact's tangential parts.
+        let mut normal = vec![0.0; k];
+        let mut tangent = vec![[0.0; 2]; k];
+        let mut within = true;
+        let mut u = k;
+        for p in 0..k {
+            normal[p] = -mu[p];
+            let round = ROUND_OFF * mu[p].abs();
+            within &= normal[p] >= -round;
+            let Some(t) = &self.tangents[p] else { continue };
+            let main = -mu[u];
+            u += 1;
+            let cross = if t.space.is_some() {
+                u += 1;
+                -mu[u - 1]
+            } else {
+                0.0
+            };
+            let size = main.hypot(cross);
+            within &=
+                size <= t.mu_static * normal[p].max(0.0) + ROUND_OFF * (size + normal[p].abs());
+            tangent[p] = t.components(main, cross);
+        }
+        if within {
+            return Ok((normal, tangent));
+        }
+        let mut frame = self.clone();
+        for _ in 0..IMPACT_SWEEPS {
+            q_dot.copy_from_slice(&before);
+            let (normal, main) = frame.impact_with(set, e, approach, q_dot, in_space)?;
+            let mut tangent = vec![[0.0; 2]; k];
+            for p in 0..k {
+                if let Some(t) = &frame.tangents[p] {
+                    tangent[p] = t.components(main[p], 0.0);
+                }
+            }
+            let mut change = 0.0_f64;
+            for &p in in_space {
+                let t = frame.tangents[p]
+                    .as_mut()
+                    .expect("a contact in space has friction");
+                let after = t.slip_after(&before, q_dot);
+                let size = after[0].hypot(after[1]);
+                let scale = t.slip.scale + t.space.as_ref().map_or(0.0, |s| s.cross.slip.scale);
+                if size <= ROUND_OFF * scale {
+                    // It would stick while others slide: not solved here.
+                    return Err(DynamicsError::SpatialFriction { constraints: set });
+                }
+                let old = t.space.as_ref().map_or([1.0, 0.0], |s| s.basis);
+                let new = [after[0] / size, after[1] / size];
+                change = change.max((new[0] - old[0]).hypot(new[1] - old[1]));
+                t.rotate(new);
+            }
+            if change <= 1e-13 {
+                return Ok((normal, tangent));
+            }
+        }
+        Err(DynamicsError::SpatialFriction { constraints: set })
     }
 
     /// The impact law with friction for the restitutions `e`, each contact approaching at the
@@ -810,12 +1325,18 @@ impl Frame {
         e: &[f64],
         approach: &[f64],
         q_dot: &mut [f64],
+        preset: &[usize],
     ) -> Result<(Vec<f64>, Vec<f64>), DynamicsError> {
         let k = self.len();
         let n = self.n;
         let before = q_dot.to_vec();
         // Contacts fixed to slip at the kinetic coefficient, with their direction.
         let mut sliding: Vec<f64> = vec![0.0; k];
+        // Those of `preset` slide forwards along their basis (in space, [`Frame::impact_in_space`]
+        // turns the basis until the slip after the impact runs along it).
+        for &p in preset {
+            sliding[p] = 1.0;
+        }
         // Each pass only moves contacts from the static cone to sliding: k + 1 passes suffice.
         for _ in 0..=k {
             let candidates: Vec<usize> = (0..k)
@@ -875,7 +1396,7 @@ impl Frame {
                     // The slip it was fixed to must still run that way after the impact.
                     let s0 = t.slip.s - dot(&t.slip.row, &before);
                     let s_after = dot(&t.slip.row, q_dot) + s0;
-                    if sliding[p] * s_after < -ROUND_OFF * t.slip.scale {
+                    if sliding[p] * s_after < -ROUND_OFF * t.slip.scale && !preset.contains(&p) {
                         return Err(paradox(set));
                     }
                     continue;
@@ -940,10 +1461,17 @@ impl Frame {
             }
             let Some(t) = &self.tangents[p] else { continue };
             let normal = -mu[p] + held.normal[p] * duration;
-            let tangent = -mu[u] + held.tangent[p] * duration;
+            let main = -mu[u] + held.tangent[p] * duration;
             u += 1;
-            let round = ROUND_OFF * (normal.abs() + tangent.abs());
-            if normal < -round || tangent.abs() > t.mu_static * normal.max(0.0) + round {
+            let cross = if t.space.is_some() {
+                u += 1;
+                -mu[u - 1] + held.cross[p] * duration
+            } else {
+                0.0
+            };
+            let tangent = main.hypot(cross);
+            let round = ROUND_OFF * (normal.abs() + tangent);
+            if normal < -round || tangent > t.mu_static * normal.max(0.0) + round {
                 return Ok(false);
             }
         }
@@ -988,30 +1516,46 @@ impl Frame {
     }
 
     /// The plastic projection of the velocities `q̇` (the frame's own) onto `ḣ = 0` on every
-    /// contact of `set` and `s = 0` on those of `stick`, jointly: `W μ = (ḣ, s)`,
-    /// `q̇ ← q̇ − M⁻¹ Bᵀ μ` with `B` the rows `Aᵢ` and `Sⱼ` (it keeps every momentum they do not
-    /// touch). Returns `μ`: minus the impulses, normal ones first (the set's order), then the
-    /// sticking contacts' tangential ones.
+    /// contact of `set` and `s = 0` on those of `stick` (in space, both parts), jointly:
+    /// `W μ = (ḣ, s)`, `q̇ ← q̇ − M⁻¹ Bᵀ μ` with `B` the rows `Aᵢ` and `Sⱼ` (it keeps every
+    /// momentum they do not touch). Returns `μ`: minus the impulses, normal ones first (the
+    /// set's order), then the sticking contacts' tangential parts.
     pub fn stop_slip(
         &self,
         set: ActiveSet,
         stick: ActiveSet,
         q_dot: &mut [f64],
     ) -> Result<Vec<f64>, DynamicsError> {
+        let approach: Vec<f64> = self.normals.iter().map(|n| n.a_q_dot).collect();
+        self.project_rows(set, stick, &approach, q_dot)
+    }
+
+    /// [`Frame::stop_slip`] with `W μ = (normal_rhs, s)`: the normal velocities' parts `A q̇`
+    /// lowered by `normal_rhs` instead of to 0 (`(1 + e) A q̇⁻` gives Newton's law).
+    fn project_rows(
+        &self,
+        set: ActiveSet,
+        stick: ActiveSet,
+        normal_rhs: &[f64],
+        q_dot: &mut [f64],
+    ) -> Result<Vec<f64>, DynamicsError> {
         let n = self.n;
         let k = self.len();
-        let sticking: Vec<usize> = (0..k)
-            .filter(|&p| stick.contains(self.indices[p]) && self.tangents[p].is_some())
-            .collect();
+        let mut sticking: Vec<(usize, bool)> = Vec::new();
+        for p in 0..k {
+            if stick.contains(self.indices[p]) && self.tangents[p].is_some() {
+                sticking.extend(self.held_parts(p));
+            }
+        }
         let size = k + sticking.len();
         let row = |r: usize| self.stacked_row(&sticking, r);
         let direction = |r: usize| self.stacked_direction(&sticking, r);
         let w = DMatrix::from_fn(size, size, |r, c| dot(row(r), direction(c)));
         let rhs = DVector::from_fn(size, |r, _| {
             if r < k {
-                self.normals[r].a_q_dot
+                normal_rhs[r]
             } else {
-                self.tangent(sticking[r - k]).slip.s
+                self.part(sticking[r - k]).0.s
             }
         });
         let mu = solve_least_norm(&w, &rhs).ok_or_else(|| paradox(set))?;

@@ -48,6 +48,9 @@ pub(crate) enum DynamicsError {
     /// Painlevé's paradox: the frictional contact problem on a set has no solution or several.
     #[error("Painlevé's paradox on {constraints:?}")]
     Painleve { constraints: ActiveSet },
+    /// With contacts in space, zenosim found no slip directions that meet Coulomb's law.
+    #[error("no consistent slip directions in space on {constraints:?}")]
+    SpatialFriction { constraints: ActiveSet },
     /// Newton's method did not bring `h` to zero.
     #[error("the projection onto constraint {constraint} left |h| = {residual}")]
     Projection { constraint: usize, residual: f64 },

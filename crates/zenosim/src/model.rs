@@ -136,13 +136,29 @@ pub trait HybridLagrangian {
         D::zero()
     }
 
-    /// The slip velocity `s(t, q, q̇)` of constraint `index`'s contact (docs/friction.md): the
-    /// relative tangential velocity of the contact points, affine in `q̇`
-    /// (`s = S(t, q) q̇ + s₀(t, q)`), one component for a contact in a plane. Only constraints
-    /// with [`Constraint::friction`] are asked. Default: 0 (no friction anywhere).
+    /// Component `component` of the slip velocity `s(t, q, q̇)` of constraint `index`'s contact
+    /// (docs/friction.md): the relative tangential velocity of the contact points, affine in
+    /// `q̇` (`s = S(t, q) q̇ + s₀(t, q)`), one component for a contact in a plane, two for a
+    /// contact in space ([`Self::slip_components`]; along two orthonormal tangent directions,
+    /// so that the isotropic cone is `|fₜ| ≤ μ fₙ` in them). Only constraints with
+    /// [`Constraint::friction`] are asked. Default: 0 (no friction anywhere).
     #[inline]
-    fn slip<D: Scalar>(&self, _index: usize, _t: D, _q: &[D], _q_dot: &[D]) -> D {
+    fn slip<D: Scalar>(
+        &self,
+        _index: usize,
+        _component: usize,
+        _t: D,
+        _q: &[D],
+        _q_dot: &[D],
+    ) -> D {
         D::zero()
+    }
+
+    /// How many components constraint `index`'s slip has: 1 for a contact in a plane (the
+    /// default), 2 for a contact in space.
+    #[inline]
+    fn slip_components(&self, _index: usize) -> usize {
+        1
     }
 
     /// Whether the model is an autonomous, conservative hybrid Lagrangian: no `t` in `L` or in

@@ -21,6 +21,9 @@ pub struct Sample<'a> {
     /// The tangential force `fₜ,ᵢ` of every constraint (0 where inactive or frictionless; it
     /// acts along `Sᵢᵀ`, positive along increasing slip: docs/friction.md).
     pub friction: &'a [f64],
+    /// The second component of the tangential force of every constraint whose contact is in
+    /// space (docs/friction.md; 0 elsewhere).
+    pub friction_across: &'a [f64],
     /// The friction states of the held contacts.
     pub grips: Grips,
     /// The energy `q̇ᵀ ∂L/∂q̇ − L`.
@@ -78,6 +81,8 @@ pub struct Point {
     pub lambda: Vec<f64>,
     /// The tangential force `fₜ,ᵢ` of every constraint.
     pub friction: Vec<f64>,
+    /// The second component of the tangential force of every constraint in space.
+    pub friction_across: Vec<f64>,
     /// The friction states of the held contacts.
     pub grips: Grips,
     /// The energy.
@@ -136,6 +141,7 @@ impl Point {
             h: s.h.to_vec(),
             lambda: s.lambda.to_vec(),
             friction: s.friction.to_vec(),
+            friction_across: s.friction_across.to_vec(),
             grips: s.grips,
             energy: s.energy,
             work: s.work,
@@ -152,6 +158,7 @@ impl Point {
             (&mut self.h, s.h),
             (&mut self.lambda, s.lambda),
             (&mut self.friction, s.friction),
+            (&mut self.friction_across, s.friction_across),
         ] {
             mine.clear();
             mine.extend_from_slice(theirs);
@@ -168,6 +175,7 @@ impl Point {
             h: &self.h,
             lambda: &self.lambda,
             friction: &self.friction,
+            friction_across: &self.friction_across,
             grips: self.grips,
             energy: self.energy,
             work: self.work,

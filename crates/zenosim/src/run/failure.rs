@@ -59,6 +59,10 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 t,
                 constraints: constraints.iter().map(name).collect(),
             },
+            DynamicsError::SpatialFriction { constraints } => Error::SpatialFriction {
+                t,
+                constraints: constraints.iter().map(name).collect(),
+            },
             DynamicsError::ContactSolver {
                 constraints,
                 stop,

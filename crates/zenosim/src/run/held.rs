@@ -145,8 +145,16 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         // A slip that reached 0 is set to 0 (the root leaves it a rounding past), so that law 1
         // sees the contact at rest and decides with the static cone.
         let copy = state.clone();
-        contact::stop_reached_slips(&self.mech, held, self.grips, t, self.n, &mut state)
-            .map_err(|err| self.fail_dynamics(err, t, &copy))?;
+        contact::stop_reached_slips(
+            &self.mech,
+            held,
+            self.grips,
+            &self.scales,
+            t,
+            self.n,
+            &mut state,
+        )
+        .map_err(|err| self.fail_dynamics(err, t, &copy))?;
         let (mut still, mut grips) = self.decide(held, t, &state)?;
         if still == held && grips == self.grips {
             (still, grips) = self.forced_change(held, t, &state)?;

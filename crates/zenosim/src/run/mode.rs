@@ -24,7 +24,7 @@ pub(super) enum Transition {
         reached: usize,
         contacts: ActiveSet,
         impulses: Vec<f64>,
-        tangential: Vec<f64>,
+        tangential: Vec<[f64; 2]>,
     },
     /// The switch through `R∞` at a Zeno point (the point, with the set it puts the state on).
     Zeno(ZenoPoint),

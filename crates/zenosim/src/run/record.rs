@@ -17,7 +17,8 @@ use crate::options::OutputGrid;
 pub(super) struct Change {
     pub contacts: ActiveSet,
     pub impulses: Vec<f64>,
-    pub tangential: Vec<f64>,
+    /// In the model's slip components (the second 0 in a plane).
+    pub tangential: Vec<[f64; 2]>,
 }
 
 impl Change {
@@ -54,6 +55,8 @@ pub(super) struct Recorder<'s, O> {
     pub h_buf: Vec<f64>,
     pub lambda_buf: Vec<f64>,
     pub friction_buf: Vec<f64>,
+    /// The second component of the tangential forces (contacts in space).
+    pub across_buf: Vec<f64>,
     /// The energy balance up to `work_t` (`work.rs`), which may run ahead of `t` inside a
     /// step, and the balance at `t` itself: the record's.
     pub work: Work,
@@ -81,6 +84,7 @@ impl<'s, O: Observer> Recorder<'s, O> {
             h_buf: vec![0.0; m],
             lambda_buf: vec![0.0; m],
             friction_buf: vec![0.0; m],
+            across_buf: vec![0.0; m],
             work: Work::default(),
             work_t: 0.0,
             work_at_t: Work::default(),
@@ -129,6 +133,16 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             tangential,
         } = change;
         self.record_jump(kind, contacts, t, before, after)?;
+        let model = self.sim.model;
+        let in_space = contacts
+            .iter()
+            .any(|i| model.constraints()[i].friction.is_some() && model.slip_components(i) == 2);
+        let tangential_across = if in_space {
+            tangential.iter().map(|f| f[1]).collect()
+        } else {
+            Vec::new()
+        };
+        let tangential = tangential.iter().map(|f| f[0]).collect();
         let event = Event {
             kind,
             t,
@@ -136,6 +150,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             contacts,
             impulses,
             tangential,
+            tangential_across,
             grips,
             before: split(before, self.n),
             after: split(after, self.n),
@@ -253,9 +268,15 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         }
         self.record.lambda_buf.iter_mut().for_each(|l| *l = 0.0);
         self.record.friction_buf.iter_mut().for_each(|f| *f = 0.0);
+        self.record.across_buf.iter_mut().for_each(|f| *f = 0.0);
         if let Mode::Constrained(held) = mode {
             let mut w = std::mem::take(&mut self.w);
-            let (lambda, friction) = (&mut self.record.lambda_buf, &mut self.record.friction_buf);
+            let record = &mut self.record;
+            let (lambda, friction, across) = (
+                &mut record.lambda_buf,
+                &mut record.friction_buf,
+                &mut record.across_buf,
+            );
             let found = contact::multipliers(
                 &self.mech,
                 held,
@@ -266,7 +287,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 &mut w,
                 |i, l, _, f, _, _| {
                     lambda[i] = l;
-                    friction[i] = f;
+                    (friction[i], across[i]) = (f[0], f[1]);
                 },
             );
             self.w = w;
@@ -281,6 +302,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             h: &self.record.h_buf,
             lambda: &self.record.lambda_buf,
             friction: &self.record.friction_buf,
+            friction_across: &self.record.across_buf,
             grips,
             energy: energy(model, t, q, q_dot),
             work,

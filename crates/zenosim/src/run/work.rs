@@ -159,10 +159,11 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             |i, l, h_t, f, s, s0| {
                 // A surface that moves under a contact with friction (a belt) works on the body
                 // through fₜ too: `fₜ S q̇ = fₜ s − fₜ s₀`, the second part its own.
-                let surface = if s0 != 0.0 { f * s0 } else { 0.0 };
+                let surface = f[0] * s0[0] + f[1] * s0[1];
+                let surface = if surface != 0.0 { surface } else { 0.0 };
                 constraints = Some(constraints.unwrap_or(-0.0) + l * h_t - surface);
                 if slipping.contains(i) {
-                    friction += f * s;
+                    friction += f[0] * s[0] + f[1] * s[1];
                 }
             },
         )?;

@@ -40,7 +40,7 @@ impl HybridLagrangian for Ball {
     fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
         q[1] - self.r
     }
-    fn slip<D: Scalar>(&self, _index: usize, _t: D, _q: &[D], v: &[D]) -> D {
+    fn slip<D: Scalar>(&self, _index: usize, _c: usize, _t: D, _q: &[D], v: &[D]) -> D {
         v[0] + v[2] * self.r
     }
 }
@@ -198,7 +198,7 @@ impl HybridLagrangian for Incline {
     fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
         q[1]
     }
-    fn slip<D: Scalar>(&self, _index: usize, _t: D, _q: &[D], v: &[D]) -> D {
+    fn slip<D: Scalar>(&self, _index: usize, _c: usize, _t: D, _q: &[D], v: &[D]) -> D {
         v[0]
     }
 }
@@ -265,7 +265,7 @@ impl HybridLagrangian for Belt {
     fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
         q[1]
     }
-    fn slip<D: Scalar>(&self, _index: usize, _t: D, _q: &[D], v: &[D]) -> D {
+    fn slip<D: Scalar>(&self, _index: usize, _c: usize, _t: D, _q: &[D], v: &[D]) -> D {
         v[0] - self.belt
     }
 }
@@ -367,7 +367,7 @@ impl HybridLagrangian for Rod {
     fn constraint<D: Scalar>(&self, _index: usize, q: &[D]) -> D {
         q[1] - q[2].sin() * self.l
     }
-    fn slip<D: Scalar>(&self, _index: usize, _t: D, q: &[D], v: &[D]) -> D {
+    fn slip<D: Scalar>(&self, _index: usize, _c: usize, _t: D, q: &[D], v: &[D]) -> D {
         v[0] + q[2].sin() * v[2] * self.l
     }
 }
