@@ -621,6 +621,125 @@ fn an_alternating_accumulation_draws_its_flights() {
     );
 }
 
+/// The shipped model `name`'s text.
+fn shipped(name: &str) -> String {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../models/{name}.toml"));
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The x of a rectangle's centre.
+fn rect_x(rect: &Node<'_, '_>) -> f64 {
+    let at = |a: &str| rect.attribute(a).unwrap().parse::<f64>().unwrap();
+    at("x") + at("width") / 2.0
+}
+
+/// A run with friction (the block on the belt: stick-slip) draws `friction.svg`, its
+/// tangential force against time, and marks its stick and slip events on every time plot: a
+/// filled square where the block starts to stick, a hollow one where it starts to slip.
+/// Frictionless runs have neither (`run_plot_draws_the_papers_figure_5` lists their files).
+#[test]
+fn a_run_with_friction_plots_its_tangential_forces_and_its_sticks_and_slips() {
+    let scratch = Scratch::new(&shipped("belt-stick-slip"));
+    assert_exit(&scratch.run(&["--plot"]), 0);
+    let out = scratch.path("out");
+    let mut expected: Vec<String> = PLOTS
+        .iter()
+        .chain(&["friction"])
+        .map(|p| format!("{p}.svg"))
+        .collect();
+    expected.extend(["model.toml", "summary.json", "trajectory.csv"].map(String::from));
+    expected.sort();
+    assert_eq!(
+        files(&out),
+        expected,
+        "every plot, the tangential forces' too"
+    );
+    let s = summary(&out);
+    let (sticks, slips) = (event_times(&s, "stick"), event_times(&s, "slip"));
+    assert!(
+        sticks.len() >= 2 && slips.len() >= 2,
+        "{sticks:?} {slips:?}"
+    );
+
+    let svg = text(&out.join("friction.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    assert!(texts(&doc).contains(&"belt-stick-slip: friction".to_string()));
+    assert!(texts(&doc).contains(&"tangential force".to_string()));
+    let lines = inside(&groups(&doc, "series", Some("f_belt")), "polyline");
+    assert_eq!(lines.len(), 1, "one line, f_belt");
+    let line = points(&lines[0]);
+    assert!(line.len() > 100, "{} points", line.len());
+    // The line is the CSV's column: its highest point the largest force, its lowest the least,
+    // and the kinetic force μₖ m g = 0.4 g, on which the block slips, a level it keeps.
+    let csv = Csv::read(&out.join("trajectory.csv"));
+    let f = csv.column("f_belt");
+    let forces = csv.rows.iter().map(|r| r.values[f]);
+    let (low, high) = forces.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+        (l.min(v), h.max(v))
+    });
+    let ys = line.iter().map(|p| p.1);
+    let (top, bottom) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(t, b), y| {
+        (t.min(y), b.max(y))
+    });
+    let y_of = line_through((high, top), (low, bottom));
+    let kinetic = y_of(0.4 * 9.81);
+    let on_it = line.iter().filter(|p| (p.1 - kinetic).abs() <= 1.0).count();
+    assert!(on_it > line.len() / 10, "{on_it} of {} points", line.len());
+
+    // The marks: one per event, at its time, on this plot and on the others of time.
+    let x_of = line_through((0.0, line[0].0), (10.0, line[line.len() - 1].0));
+    for plot in ["friction", "velocities", "displacements", "energy"] {
+        let svg = text(&out.join(format!("{plot}.svg")));
+        let doc = Document::parse(&svg).unwrap();
+        for (kind, times) in [("stick", &sticks), ("slip", &slips)] {
+            let marks = inside(&groups(&doc, kind, None), "rect");
+            assert_eq!(marks.len(), times.len(), "{plot}: a mark per {kind}");
+            for (mark, t) in marks.iter().zip(times) {
+                assert!(
+                    (rect_x(mark) - x_of(*t)).abs() <= 1.0,
+                    "{plot}: {kind} at {t}"
+                );
+                let filled = mark.attribute("fill") != Some("none");
+                assert_eq!(filled, kind == "stick", "{plot}: {kind} at {t}");
+            }
+            let label = format!("{kind} ({})", times.len());
+            assert!(
+                texts(&doc).contains(&label),
+                "{plot}: the legend counts {label}"
+            );
+        }
+    }
+    // The figure's time panels mark them too; the plane and the Zeno diagnostic do not.
+    let svg = text(&out.join("figure.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    assert_eq!(
+        inside(&groups(&doc, "stick", None), "rect").len(),
+        2 * sticks.len()
+    );
+    for plot in ["plane", "zeno"] {
+        let svg = text(&out.join(format!("{plot}.svg")));
+        let doc = Document::parse(&svg).unwrap();
+        assert!(groups(&doc, "stick", None).is_empty(), "{plot}");
+    }
+
+    // `zenosim plot` draws it again, as PNG too; a coefficient of 0 is frictionless: no plot of
+    // tangential forces, and a rerun removes the old one.
+    assert_exit(&scratch.zenosim(&["plot", "out", "--format", "png"]), 0);
+    assert!(out.join("friction.png").exists());
+    let frictionless = shipped("belt-stick-slip")
+        .replace("friction = { static = 0.6, kinetic = 0.4 }", "friction = 0");
+    std::fs::write(scratch.path("model.toml"), frictionless).unwrap();
+    assert_exit(&scratch.run(&["--plot"]), 0);
+    assert!(
+        !files(&out).iter().any(|f| f.starts_with("friction")),
+        "{:?}",
+        files(&out)
+    );
+    let svg = text(&out.join("velocities.svg"));
+    assert!(!svg.contains(r#"class="stick""#) && !svg.contains(r#"class="slip""#));
+}
+
 // ----- refusals -------------------------------------------------------------------------------
 
 /// `zenosim plot <args>` refused with exit 2 and an `error: ` message, which it returns.
