@@ -66,13 +66,17 @@ pub fn check(data: &[u8]) {
     }
 }
 
-/// Whether `summary` (drawn, so a valid summary.json) lists constraints with friction: a
-/// `friction` key with at least one name.
+/// Whether `summary` (drawn, so a summary.json that `zenosim plot` reads) lists constraints
+/// with friction: a `friction` key with at least one name. Read as the plots read it, the other
+/// keys skipped: a string there that is no valid Unicode (a lone surrogate) is no error.
 fn has_friction(summary: &[u8]) -> bool {
-    let value: serde_json::Value = serde_json::from_slice(summary).expect("a summary drawn");
-    value["friction"]
-        .as_array()
-        .is_some_and(|names| !names.is_empty())
+    #[derive(serde::Deserialize)]
+    struct Listed {
+        #[serde(default)]
+        friction: Vec<String>,
+    }
+    let listed: Listed = serde_json::from_slice(summary).expect("a summary drawn");
+    !listed.friction.is_empty()
 }
 
 /// A refusal's message: it names the folder's file, and is short.

@@ -980,6 +980,49 @@ fn a_plane_of_unknown_names_lists_the_columns_short() {
     );
 }
 
+/// A time far after the run's end (a row at 8.5e16 in a run to t = 10, the fuzz input
+/// regressions/plot/row-after-the-run; or an event there) was put more than 2³¹ pixels right of
+/// the plot, and plotters' pixel arithmetic overflowed: a panic in a build with overflow
+/// checks (the fuzzer's, the tests'), a wrapped coordinate in release. Such files do not
+/// belong together: refused, naming the file and the time.
+#[test]
+fn times_after_the_run_overflowed_the_pixels() {
+    let scratch = ball_run();
+    let path = scratch.path("out/trajectory.csv");
+    let csv = text(&path);
+    let mut lines: Vec<&str> = csv.lines().collect();
+    let (t, rest) = lines.pop().unwrap().split_once(',').unwrap();
+    let late = format!("{t}e16,{rest}");
+    lines.push(&late);
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    let err = plot_refused(&scratch, &["out"]);
+    let line = lines.len();
+    assert!(
+        err.contains(&format!("out/trajectory.csv:{line}: a row at t = "))
+            && err.contains("outside the run"),
+        "{err}"
+    );
+    let output = scratch.zenosim(&["report", "out"]);
+    assert_exit(&output, 2);
+    assert!(stderr(&output).contains("outside the run"), "{}", stderr(&output));
+
+    std::fs::write(&path, &csv).unwrap();
+    change_summary(&scratch, |s| {
+        let events = s["events"].as_array_mut().unwrap();
+        let last = events.last_mut().unwrap();
+        last["t"] = Value::from(1e17);
+    });
+    let err = plot_refused(&scratch, &["out"]);
+    assert!(
+        err.contains("out/summary.json: an event at t = 100000000000000000 is outside the run"),
+        "{err}"
+    );
+    assert_eq!(
+        files(&scratch.path("out")),
+        ["model.toml", "summary.json", "trajectory.csv"]
+    );
+}
+
 /// Counts the bytes each thread has allocated and not freed, for the leak test.
 struct CountingAllocator;
 

@@ -287,7 +287,22 @@ impl Record {
         if self.events.windows(2).any(|w| w[1].t < w[0].t) {
             return Err("the events are not in time order".to_string());
         }
+        // Marks far outside the time axis would overflow the plots' pixel coordinates.
+        if let Some(bad) = times.iter().find(|&&t| !self.within_span(t)) {
+            let (start, end) = self.time_span();
+            return Err(format!(
+                "an event at t = {bad} is outside the run, from t = {start} to {end}"
+            ));
+        }
         Ok(())
+    }
+
+    /// Whether `t` lies in the plotted [`Record::time_span`], to a billionth of its size: every
+    /// time of the run's files does.
+    pub fn within_span(&self, t: f64) -> bool {
+        let (start, end) = self.time_span();
+        let slack = 1e-9 * (end - start).max(start.abs()).max(end.abs());
+        t >= start - slack && t <= end + slack
     }
 
     /// The plotted span of time: from the start to the stop time (or the end, if later).

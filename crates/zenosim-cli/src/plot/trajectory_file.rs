@@ -146,6 +146,12 @@ pub fn read_with(
                 })
         };
         let t = field(0)?;
+        if t.is_finite() && !record.within_span(t) {
+            bail!(
+                "{display}:{line}: a row at t = {t}, outside the run of summary.json (from t = \
+                 {t_start} to {t_end}): the files do not belong together; run the model again"
+            );
+        }
         for (k, value) in values.iter_mut().take(2 * n + 1).enumerate() {
             *value = field(if k < 2 * n { 2 + k } else { energy })?;
         }
