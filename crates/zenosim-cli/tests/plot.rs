@@ -542,6 +542,47 @@ fn the_energy_plot_draws_the_balance_over_the_energy() {
     assert!(!svg.contains(label));
 }
 
+/// A model with friction that is not autonomous (the block launched down the rough incline,
+/// with a dissipation): its trajectory ends with the work of friction, and the energy plot's
+/// `E(0) + work − impact loss` counts it, on the energy throughout. Without it, the dashed line
+/// stayed near E(0) = 2 while the energy fell to −3, friction's work −4.9.
+#[test]
+fn the_energy_plot_balances_the_work_of_friction() {
+    let source = shipped("rough-incline").replace(
+        "lagrangian = \"0.5*m*(x_dot^2 + y_dot^2) + m*g*(sin(alpha)*x - cos(alpha)*y)\"\n",
+        "lagrangian = \"0.5*m*(x_dot^2 + y_dot^2) + m*g*(sin(alpha)*x - cos(alpha)*y)\"\n\
+         dissipation = \"0.05*x_dot^2\"\n",
+    );
+    assert!(source.contains("dissipation"));
+    let scratch = Scratch::new(&source);
+    assert_exit(&scratch.run(&["--plot"]), 0);
+    let out = scratch.path("out");
+    let csv = Csv::read(&out.join("trajectory.csv"));
+    assert!(
+        csv.header
+            .join(",")
+            .ends_with(&format!("f_slope,energy,{WORK_COLUMNS},work_friction")),
+        "{}",
+        csv.header.join(",")
+    );
+    let s = summary(&out);
+    let total = s["energy_balance"]["work_friction"].as_f64().unwrap();
+    assert!(total < -4.0, "{total}");
+    let last = csv.rows.last().unwrap();
+    assert_eq!(last.values[csv.column("work_friction")], total);
+
+    let svg = text(&out.join("energy.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    let energy = points(&inside(&groups(&doc, "series", Some("energy")), "polyline")[0]);
+    let label = "E(0) + work − impact loss";
+    let dashes = inside(&groups(&doc, "series", Some(label)), "polyline");
+    assert!(dashes.len() > 50, "dashed: {} dashes", dashes.len());
+    for p in dashes.iter().flat_map(points) {
+        let d = distance_to(p, &energy);
+        assert!(d <= 1.5, "{p:?} is {d} px from the energy");
+    }
+}
+
 /// With impacts on several constraints (the corner: the floor's, then the wall's while the
 /// floor holds), each constraint's impacts are marked on a row of their own, named, and the
 /// switch onto both walls names them.
@@ -1004,7 +1045,11 @@ fn times_after_the_run_overflowed_the_pixels() {
     );
     let output = scratch.zenosim(&["report", "out"]);
     assert_exit(&output, 2);
-    assert!(stderr(&output).contains("outside the run"), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("outside the run"),
+        "{}",
+        stderr(&output)
+    );
 
     std::fs::write(&path, &csv).unwrap();
     change_summary(&scratch, |s| {

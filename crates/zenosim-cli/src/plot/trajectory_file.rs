@@ -18,7 +18,7 @@ use anyhow::{anyhow, bail, Context};
 
 use super::decimate::{Bounds, PathDecimator, TimeDecimator};
 use super::record::Record;
-use crate::trajectory::{self, WORK_COLUMNS};
+use crate::trajectory::{self, work_columns};
 
 /// Columns of the time axis kept per series: twice the widest plot's pixels.
 const TIME_COLUMNS: usize = 2048;
@@ -103,7 +103,14 @@ pub fn read_with(
         )
     })?;
     let n = record.coordinates.len();
-    let energy = names.len() - 1 - if balance { WORK_COLUMNS.len() } else { 0 };
+    // The balance's columns: with friction, its work last.
+    let friction_columns = !record.friction.is_empty();
+    let works = if balance {
+        work_columns(friction_columns).count()
+    } else {
+        0
+    };
+    let energy = names.len() - 1 - works;
     // The columns f_<constraint>, just before the energy.
     let forces = energy - record.friction.len();
     // The series: q, q̇, the energy, E(0) + work − impact loss, and the tangential forces.
@@ -156,12 +163,12 @@ pub fn read_with(
             *value = field(if k < 2 * n { 2 + k } else { energy })?;
         }
         if balance {
-            let mut work = [0.0; WORK_COLUMNS.len()];
-            for (k, w) in work.iter_mut().enumerate() {
-                *w = field(energy + 1 + k)?;
+            // work_forces + work_drive + work_constraints (+ work_friction) − impact_loss.
+            let mut work = 0.0;
+            for (k, name) in work_columns(friction_columns).enumerate() {
+                let value = field(energy + 1 + k)?;
+                work += if name == "impact_loss" { -value } else { value };
             }
-            let [forces, drive, constraints, impact_loss] = work;
-            let work = forces + drive + constraints - impact_loss;
             let start = *energy_start.get_or_insert(values[2 * n] - work);
             values[2 * n + 1] = start + work;
         }
@@ -286,7 +293,9 @@ fn check_header(header: &csv::ByteRecord, record: &Record) -> Result<(Vec<String
          autonomous) for {} coordinates and {m} constraints{friction}",
         quote(&names.join(",")),
         quote(&expected.join(",")),
-        WORK_COLUMNS.join(","),
+        work_columns(!record.friction.is_empty())
+            .collect::<Vec<_>>()
+            .join(","),
         record.coordinates.len()
     ))
 }
