@@ -33,6 +33,11 @@ RUNS = [
     ("newtons-cradle", "newtons-cradle", [], ""),
     ("corner", "corner", [], ""),
     ("vibrating-table", "vibrating-table", [], "png"),
+    # Friction: the tangential forces' columns, stick and slip in the modes and the events,
+    # impacts' tangential impulses, the friction plot.
+    ("belt-stick-slip", "belt-stick-slip", [], ""),
+    ("housner-block", "housner-block", [], "png"),
+    ("ball-backspin", "ball-backspin", [], "x,y"),
 ]
 
 

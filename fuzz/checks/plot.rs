@@ -8,14 +8,15 @@
 //! words: `png` draws PNG files instead of SVG, and a word `X,Y` is the `--plane`. Then
 //! `zenosim plot` draws every plot of that folder ([`zenosim_cli::draw`]).
 //!
-//! Nothing may panic. A folder drawn gives every plot; a refused one is a bad input (exit 2),
+//! Nothing may panic. A folder drawn gives every plot (the tangential forces' only for a run
+//! whose summary lists constraints with friction); a refused one is a bad input (exit 2),
 //! never an output failure (a plot that cannot be drawn), and its message is short: at most
 //! [`MAX_MESSAGE`] characters besides the folder's name, however long a bad line, name or
 //! value. Time and memory are the fuzzer's to judge (`-timeout`, `-rss_limit_mb`).
 
 use std::path::Path;
 
-use zenosim_cli::{draw, Failure, Format, Plane, PLOTS};
+use zenosim_cli::{draw, Failure, Format, Plane, FRICTION, PLOTS};
 
 /// The byte between the parts of an input.
 pub const SEPARATOR: u8 = 0;
@@ -46,8 +47,13 @@ pub fn check(data: &[u8]) {
     }
     match draw(dir, format, plane.as_ref()) {
         Ok(written) => {
-            assert_eq!(written.len(), PLOTS.len(), "{written:?}");
-            for (path, name) in written.iter().zip(PLOTS) {
+            let friction = has_friction(summary);
+            let plots: Vec<&str> = PLOTS
+                .into_iter()
+                .filter(|&name| friction || name != FRICTION)
+                .collect();
+            assert_eq!(written.len(), plots.len(), "{written:?}");
+            for (path, name) in written.iter().zip(plots) {
                 assert_eq!(path, &dir.join(format!("{name}.{}", format.extension())));
                 let size = std::fs::metadata(path).map_or(0, |m| m.len());
                 assert!(size > 0, "{} is empty", path.display());
@@ -58,6 +64,19 @@ pub fn check(data: &[u8]) {
             panic!("a plot of a readable folder cannot be drawn: {error:#}")
         }
     }
+}
+
+/// Whether `summary` (drawn, so a summary.json that `zenosim plot` reads) lists constraints
+/// with friction: a `friction` key with at least one name. Read as the plots read it, the other
+/// keys skipped: a string there that is no valid Unicode (a lone surrogate) is no error.
+fn has_friction(summary: &[u8]) -> bool {
+    #[derive(serde::Deserialize)]
+    struct Listed {
+        #[serde(default)]
+        friction: Vec<String>,
+    }
+    let listed: Listed = serde_json::from_slice(summary).expect("a summary drawn");
+    !listed.friction.is_empty()
 }
 
 /// A refusal's message: it names the folder's file, and is short.

@@ -457,14 +457,16 @@ const PLOT_HELP: &str = "Plots, written into DIR as <name>.svg (or .png with --f
                  constraints that depend on those two only
   zeno           the Zeno diagnostic: flight times between impacts against the impact index, on
                  a log scale, with the fitted ratio and the estimate of τ∞; a panel per Zeno point
-On every time plot impacts (dots) and lift-offs (triangles) are marked along the time axis, and
+  friction       for a model with friction only: the tangential forces f_<constraint> against t
+On every time plot impacts (dots), lift-offs (triangles) and, with friction, contacts starting to
+stick (filled squares) and to slip (hollow squares) are marked along the time axis, and
 each switch to the constrained motion (or the stall, with --zeno off, or where a failed run
 stopped) is a vertical line, labelled where the label overprints no other; more than 40
 switches (or switches a few pixels apart) are a rug of short marks along the top, counted in the
 legend. Long runs are decimated for drawing (per pixel column, its first, last, lowest and
 highest points); more than 500 marks of a kind are thinned to one per pixel column. The plane of
 two coordinates has equal scales (--plane-scale free: each axis fitted to the path). Each file
-is written to a temporary name and renamed when complete. In SVG, each part is a group <g class=\"series|impacts|liftoffs|switch|stall|...\"
+is written to a temporary name and renamed when complete. In SVG, each part is a group <g class=\"series|impacts|liftoffs|stick|slip|switch|stall|...\"
 data-name=\"...\">.
 
 Exit status: 0 the plots are written; 1 a plot could not be written; 2 bad arguments, or DIR
@@ -479,8 +481,12 @@ nothing. It shows:
                    wrote there, with the run's parameters), played at a chosen speed (1× is
                    real time) and slowed down approaching each Zeno point; a scrubber with the events marked
                    along it; the mode and the constraints held; the trace of a chosen point
-  the plots        displacements, velocities and energy against time: zoom (wheel), pan
-                   (drag), the values under the pointer, series switched on and off
+  the plots        displacements, velocities and energy against time (and with friction the
+                   tangential forces): zoom (wheel), pan (drag), the values under the pointer,
+                   series switched on and off
+  friction         each contact's stick and slip states along the scrubber and at the current
+                   time, and the impacts' normal and tangential impulses in the events' table
+  the balance      the run's energy balance, the work of friction included
   the Zeno points  and the events, in tables whose times move the animation there
 Without a [drawing] (or without model.toml) the page says so and shows the rest. Long runs are \
 decimated as `zenosim plot` decimates them; both rows of every event are kept. The file is \

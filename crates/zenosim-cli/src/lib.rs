@@ -37,7 +37,7 @@ use clap::Parser;
 
 use crate::cli::{Cli, Command};
 
-pub use plot::{draw, draw_scaled, Format, Plane, PlaneScale, PLOTS};
+pub use plot::{draw, draw_scaled, Format, Plane, PlaneScale, FRICTION, PLOTS};
 
 /// Exit status of a successful run or check.
 pub const EXIT_OK: u8 = 0;

@@ -12,7 +12,8 @@ use crate::progress::Progress;
 
 /// The energy balance's columns, after `energy`, in a run of a model that is not autonomous:
 /// the terms of `E(t) − E(0) = work_forces + work_drive + work_constraints − impact_loss`
-/// from the start to the row's time ([`zenosim::Work`]).
+/// from the start to the row's time ([`zenosim::Work`]), and [`WORK_FRICTION`] after them
+/// for a model with friction.
 pub const WORK_COLUMNS: [&str; 4] = [
     "work_forces",
     "work_drive",
@@ -20,17 +21,30 @@ pub const WORK_COLUMNS: [&str; 4] = [
     "impact_loss",
 ];
 
+/// The work of friction at slipping contacts, `∫ Σ fₜ s dt ≤ 0` from the start to the row's
+/// time: the energy balance's last column in a run of a model with friction that is not
+/// autonomous, added to the right-hand side of the balance.
+pub const WORK_FRICTION: &str = "work_friction";
+
+/// The energy balance's columns of a model that is not autonomous, with `friction` or not.
+pub fn work_columns(friction: bool) -> impl Iterator<Item = &'static str> {
+    WORK_COLUMNS
+        .into_iter()
+        .chain(friction.then_some(WORK_FRICTION))
+}
+
 /// The header of `trajectory.csv`:
 /// `t,mode,<columns of (q, q̇)...>,h_<c>...,lambda_<c>...,f_<c>...,energy`, with `f_<c>` (the
 /// tangential force) for each constraint of `friction` (those with friction, in the model's
-/// order; none for a frictionless model), then [`WORK_COLUMNS`] when `work`.
+/// order; none for a frictionless model), then when `work` the energy balance's
+/// [`work_columns`].
 pub fn header<'a>(
     columns: impl IntoIterator<Item = &'a String>,
     constraints: &[String],
     friction: &[String],
     work: bool,
 ) -> Vec<String> {
-    let work_columns = if work { &WORK_COLUMNS[..] } else { &[] };
+    let work_columns = work_columns(!friction.is_empty()).filter(|_| work);
     ["t", "mode"]
         .into_iter()
         .map(str::to_string)
@@ -39,7 +53,7 @@ pub fn header<'a>(
         .chain(constraints.iter().map(|c| format!("lambda_{c}")))
         .chain(friction.iter().map(|c| format!("f_{c}")))
         .chain(std::iter::once("energy".to_string()))
-        .chain(work_columns.iter().map(|c| c.to_string()))
+        .chain(work_columns.map(str::to_string))
         .collect()
 }
 
@@ -74,7 +88,7 @@ pub struct TrajectoryWriter<W: io::Write> {
     /// The indices of the constraints with friction: a column `f_<name>` each.
     friction: Vec<usize>,
     mode: String,
-    /// Whether the rows end with [`WORK_COLUMNS`].
+    /// Whether the rows end with the energy balance's [`work_columns`].
     work: bool,
 }
 
@@ -91,7 +105,8 @@ pub struct Written<W> {
 impl<W: io::Write> TrajectoryWriter<W> {
     /// A writer of the columns `t,mode,<q...>,<q_dot...>,h_<c>...,lambda_<c>...,f_<c>...,energy`
     /// ([`header`]; `f_<c>` for the constraints of `friction`, indices into `constraints`), and
-    /// when `work` (a model that is not autonomous) the energy balance's [`WORK_COLUMNS`].
+    /// when `work` (a model that is not autonomous) the energy balance's [`work_columns`]
+    /// (`work_friction` among them where `friction` is not empty).
     /// `mode` is `free`, or `constrained:` and the names of the constraints held, joined by `+`
     /// (`constrained:floor+wall`), then, where held contacts stick or slip, `;stick:` and
     /// `;slip:` and their names joined by `+`, each only where not empty
@@ -209,6 +224,9 @@ impl<W: io::Write> TrajectoryWriter<W> {
             let w = &s.work;
             for x in [w.forces, w.drive, w.constraints, w.impact_loss] {
                 self.field(x)?;
+            }
+            if !self.friction.is_empty() {
+                self.field(w.friction)?;
             }
         }
         self.csv.write_record(None::<&[u8]>)
@@ -334,7 +352,8 @@ mod tests {
             )
             .join(","),
             "t,mode,x,x_dot,h_left,h_wall,h_right,lambda_left,lambda_wall,lambda_right,\
-             f_left,f_right,energy,work_forces,work_drive,work_constraints,impact_loss"
+             f_left,f_right,energy,work_forces,work_drive,work_constraints,impact_loss,\
+             work_friction"
         );
         let mut writer = TrajectoryWriter::new(
             Vec::new(),
@@ -504,6 +523,46 @@ mod tests {
         assert_eq!(
             plain.join(","),
             "t,mode,y,y_dot,h_floor,lambda_floor,energy"
+        );
+    }
+
+    /// With friction, the work of friction after the other terms of the balance.
+    #[test]
+    fn a_model_with_friction_that_is_not_autonomous_has_the_work_of_friction_last() {
+        let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let mut writer = TrajectoryWriter::new(
+            Vec::new(),
+            &names(&["x"]),
+            &names(&["x_dot"]),
+            &names(&["floor"]),
+            &[0],
+            true,
+            u64::MAX,
+            Progress::hidden(),
+        );
+        let work = zenosim::Work {
+            forces: -1.25,
+            friction: -0.5,
+            ..Default::default()
+        };
+        writer.sample(&Sample {
+            t: 0.5,
+            mode: Mode::Free,
+            q: &[1.0],
+            q_dot: &[0.0],
+            h: &[1.0],
+            lambda: &[0.0],
+            friction: &[0.0],
+            grips: zenosim::Grips::none(),
+            energy: 2.0,
+            work,
+        });
+        let text = String::from_utf8(writer.finish().unwrap().out).unwrap();
+        assert_eq!(
+            text,
+            "t,mode,x,x_dot,h_floor,lambda_floor,f_floor,energy,\
+             work_forces,work_drive,work_constraints,impact_loss,work_friction\n\
+             0.5,free,1,0,1,0,0,2,-1.25,0,0,0,-0.5\n"
         );
     }
 

@@ -542,6 +542,47 @@ fn the_energy_plot_draws_the_balance_over_the_energy() {
     assert!(!svg.contains(label));
 }
 
+/// A model with friction that is not autonomous (the block launched down the rough incline,
+/// with a dissipation): its trajectory ends with the work of friction, and the energy plot's
+/// `E(0) + work − impact loss` counts it, on the energy throughout. Without it, the dashed line
+/// stayed near E(0) = 2 while the energy fell to −3, friction's work −4.9.
+#[test]
+fn the_energy_plot_balances_the_work_of_friction() {
+    let source = shipped("rough-incline").replace(
+        "lagrangian = \"0.5*m*(x_dot^2 + y_dot^2) + m*g*(sin(alpha)*x - cos(alpha)*y)\"\n",
+        "lagrangian = \"0.5*m*(x_dot^2 + y_dot^2) + m*g*(sin(alpha)*x - cos(alpha)*y)\"\n\
+         dissipation = \"0.05*x_dot^2\"\n",
+    );
+    assert!(source.contains("dissipation"));
+    let scratch = Scratch::new(&source);
+    assert_exit(&scratch.run(&["--plot"]), 0);
+    let out = scratch.path("out");
+    let csv = Csv::read(&out.join("trajectory.csv"));
+    assert!(
+        csv.header
+            .join(",")
+            .ends_with(&format!("f_slope,energy,{WORK_COLUMNS},work_friction")),
+        "{}",
+        csv.header.join(",")
+    );
+    let s = summary(&out);
+    let total = s["energy_balance"]["work_friction"].as_f64().unwrap();
+    assert!(total < -4.0, "{total}");
+    let last = csv.rows.last().unwrap();
+    assert_eq!(last.values[csv.column("work_friction")], total);
+
+    let svg = text(&out.join("energy.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    let energy = points(&inside(&groups(&doc, "series", Some("energy")), "polyline")[0]);
+    let label = "E(0) + work − impact loss";
+    let dashes = inside(&groups(&doc, "series", Some(label)), "polyline");
+    assert!(dashes.len() > 50, "dashed: {} dashes", dashes.len());
+    for p in dashes.iter().flat_map(points) {
+        let d = distance_to(p, &energy);
+        assert!(d <= 1.5, "{p:?} is {d} px from the energy");
+    }
+}
+
 /// With impacts on several constraints (the corner: the floor's, then the wall's while the
 /// floor holds), each constraint's impacts are marked on a row of their own, named, and the
 /// switch onto both walls names them.
@@ -619,6 +660,125 @@ fn an_alternating_accumulation_draws_its_flights() {
             .any(|t| t == "fit: ratio r = 0.5385 (last 7 flights)"),
         "{all:?}"
     );
+}
+
+/// The shipped model `name`'s text.
+fn shipped(name: &str) -> String {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../models/{name}.toml"));
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The x of a rectangle's centre.
+fn rect_x(rect: &Node<'_, '_>) -> f64 {
+    let at = |a: &str| rect.attribute(a).unwrap().parse::<f64>().unwrap();
+    at("x") + at("width") / 2.0
+}
+
+/// A run with friction (the block on the belt: stick-slip) draws `friction.svg`, its
+/// tangential force against time, and marks its stick and slip events on every time plot: a
+/// filled square where the block starts to stick, a hollow one where it starts to slip.
+/// Frictionless runs have neither (`run_plot_draws_the_papers_figure_5` lists their files).
+#[test]
+fn a_run_with_friction_plots_its_tangential_forces_and_its_sticks_and_slips() {
+    let scratch = Scratch::new(&shipped("belt-stick-slip"));
+    assert_exit(&scratch.run(&["--plot"]), 0);
+    let out = scratch.path("out");
+    let mut expected: Vec<String> = PLOTS
+        .iter()
+        .chain(&["friction"])
+        .map(|p| format!("{p}.svg"))
+        .collect();
+    expected.extend(["model.toml", "summary.json", "trajectory.csv"].map(String::from));
+    expected.sort();
+    assert_eq!(
+        files(&out),
+        expected,
+        "every plot, the tangential forces' too"
+    );
+    let s = summary(&out);
+    let (sticks, slips) = (event_times(&s, "stick"), event_times(&s, "slip"));
+    assert!(
+        sticks.len() >= 2 && slips.len() >= 2,
+        "{sticks:?} {slips:?}"
+    );
+
+    let svg = text(&out.join("friction.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    assert!(texts(&doc).contains(&"belt-stick-slip: friction".to_string()));
+    assert!(texts(&doc).contains(&"tangential force".to_string()));
+    let lines = inside(&groups(&doc, "series", Some("f_belt")), "polyline");
+    assert_eq!(lines.len(), 1, "one line, f_belt");
+    let line = points(&lines[0]);
+    assert!(line.len() > 100, "{} points", line.len());
+    // The line is the CSV's column: its highest point the largest force, its lowest the least,
+    // and the kinetic force μₖ m g = 0.4 g, on which the block slips, a level it keeps.
+    let csv = Csv::read(&out.join("trajectory.csv"));
+    let f = csv.column("f_belt");
+    let forces = csv.rows.iter().map(|r| r.values[f]);
+    let (low, high) = forces.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+        (l.min(v), h.max(v))
+    });
+    let ys = line.iter().map(|p| p.1);
+    let (top, bottom) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(t, b), y| {
+        (t.min(y), b.max(y))
+    });
+    let y_of = line_through((high, top), (low, bottom));
+    let kinetic = y_of(0.4 * 9.81);
+    let on_it = line.iter().filter(|p| (p.1 - kinetic).abs() <= 1.0).count();
+    assert!(on_it > line.len() / 10, "{on_it} of {} points", line.len());
+
+    // The marks: one per event, at its time, on this plot and on the others of time.
+    let x_of = line_through((0.0, line[0].0), (10.0, line[line.len() - 1].0));
+    for plot in ["friction", "velocities", "displacements", "energy"] {
+        let svg = text(&out.join(format!("{plot}.svg")));
+        let doc = Document::parse(&svg).unwrap();
+        for (kind, times) in [("stick", &sticks), ("slip", &slips)] {
+            let marks = inside(&groups(&doc, kind, None), "rect");
+            assert_eq!(marks.len(), times.len(), "{plot}: a mark per {kind}");
+            for (mark, t) in marks.iter().zip(times) {
+                assert!(
+                    (rect_x(mark) - x_of(*t)).abs() <= 1.0,
+                    "{plot}: {kind} at {t}"
+                );
+                let filled = mark.attribute("fill") != Some("none");
+                assert_eq!(filled, kind == "stick", "{plot}: {kind} at {t}");
+            }
+            let label = format!("{kind} ({})", times.len());
+            assert!(
+                texts(&doc).contains(&label),
+                "{plot}: the legend counts {label}"
+            );
+        }
+    }
+    // The figure's time panels mark them too; the plane and the Zeno diagnostic do not.
+    let svg = text(&out.join("figure.svg"));
+    let doc = Document::parse(&svg).unwrap();
+    assert_eq!(
+        inside(&groups(&doc, "stick", None), "rect").len(),
+        2 * sticks.len()
+    );
+    for plot in ["plane", "zeno"] {
+        let svg = text(&out.join(format!("{plot}.svg")));
+        let doc = Document::parse(&svg).unwrap();
+        assert!(groups(&doc, "stick", None).is_empty(), "{plot}");
+    }
+
+    // `zenosim plot` draws it again, as PNG too; a coefficient of 0 is frictionless: no plot of
+    // tangential forces, and a rerun removes the old one.
+    assert_exit(&scratch.zenosim(&["plot", "out", "--format", "png"]), 0);
+    assert!(out.join("friction.png").exists());
+    let frictionless = shipped("belt-stick-slip")
+        .replace("friction = { static = 0.6, kinetic = 0.4 }", "friction = 0");
+    std::fs::write(scratch.path("model.toml"), frictionless).unwrap();
+    assert_exit(&scratch.run(&["--plot"]), 0);
+    assert!(
+        !files(&out).iter().any(|f| f.starts_with("friction")),
+        "{:?}",
+        files(&out)
+    );
+    let svg = text(&out.join("velocities.svg"));
+    assert!(!svg.contains(r#"class="stick""#) && !svg.contains(r#"class="slip""#));
 }
 
 // ----- refusals -------------------------------------------------------------------------------
@@ -858,6 +1018,53 @@ fn a_plane_of_unknown_names_lists_the_columns_short() {
     assert!(
         err.contains("y0, y1, y2") && err.contains("bytes in all"),
         "{err}"
+    );
+}
+
+/// A time far after the run's end (a row at 8.5e16 in a run to t = 10, the fuzz input
+/// regressions/plot/row-after-the-run; or an event there) was put more than 2³¹ pixels right of
+/// the plot, and plotters' pixel arithmetic overflowed: a panic in a build with overflow
+/// checks (the fuzzer's, the tests'), a wrapped coordinate in release. Such files do not
+/// belong together: refused, naming the file and the time.
+#[test]
+fn times_after_the_run_overflowed_the_pixels() {
+    let scratch = ball_run();
+    let path = scratch.path("out/trajectory.csv");
+    let csv = text(&path);
+    let mut lines: Vec<&str> = csv.lines().collect();
+    let (t, rest) = lines.pop().unwrap().split_once(',').unwrap();
+    let late = format!("{t}e16,{rest}");
+    lines.push(&late);
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    let err = plot_refused(&scratch, &["out"]);
+    let line = lines.len();
+    assert!(
+        err.contains(&format!("out/trajectory.csv:{line}: a row at t = "))
+            && err.contains("outside the run"),
+        "{err}"
+    );
+    let output = scratch.zenosim(&["report", "out"]);
+    assert_exit(&output, 2);
+    assert!(
+        stderr(&output).contains("outside the run"),
+        "{}",
+        stderr(&output)
+    );
+
+    std::fs::write(&path, &csv).unwrap();
+    change_summary(&scratch, |s| {
+        let events = s["events"].as_array_mut().unwrap();
+        let last = events.last_mut().unwrap();
+        last["t"] = Value::from(1e17);
+    });
+    let err = plot_refused(&scratch, &["out"]);
+    assert!(
+        err.contains("out/summary.json: an event at t = 100000000000000000 is outside the run"),
+        "{err}"
+    );
+    assert_eq!(
+        files(&scratch.path("out")),
+        ["model.toml", "summary.json", "trajectory.csv"]
     );
 }
 

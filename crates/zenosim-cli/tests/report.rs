@@ -80,6 +80,17 @@ fn run_report_writes_the_page_of_the_run() {
         names,
         ["x1", "x2", "x3", "x1_dot", "x2_dot", "x3_dot", "energy"]
     );
+    // Frictionless: no tangential forces, no friction states, no impulses in the events; the
+    // energy balance without the work of friction.
+    assert_eq!(data.get("friction"), None);
+    assert_eq!(data["events"].get("impulses"), None);
+    assert!(data["modes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|m| !m.as_str().unwrap().contains(';')));
+    assert_eq!(data["balance"], summary["energy_balance"]);
+    assert_eq!(data["balance"].get("work_friction"), None);
     // No drawing in this model: the page says how to add one.
     assert_eq!(data["mechanism"], Value::Null);
     let note = data["note"].as_str().unwrap();
@@ -103,6 +114,129 @@ fn run_report_writes_the_page_of_the_run() {
             "trajectory.csv"
         ]
     );
+}
+
+/// The shipped model `name`'s text.
+fn shipped(name: &str) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../models/{name}.toml"));
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// A run with friction: the block on the belt (stick-slip) has its tangential force among the
+/// plots, the friction states of its frames' modes, its stick and slip events with the other
+/// events, and the work of friction in its energy balance; the ball dropped with backspin has
+/// its impacts' normal and tangential impulses, as summary.json has them.
+#[test]
+fn a_run_with_friction_reports_its_forces_states_impulses_and_work() {
+    let scratch = Scratch::new(&shipped("belt-stick-slip"));
+    assert_exit(&scratch.run(&["--report"]), 0);
+    let out = scratch.path("out");
+    let summary = summary(&out);
+    let data = data(&out);
+    assert_eq!(data["friction"], serde_json::json!(["belt"]));
+    let series = data["series"].as_array().unwrap();
+    let force = series
+        .iter()
+        .find(|s| s["name"] == "f_belt")
+        .expect("the tangential force is plotted");
+    assert_eq!(force["group"], "Tangential forces");
+    assert_eq!(
+        series
+            .iter()
+            .filter(|s| s["group"] == "Tangential forces")
+            .count(),
+        1
+    );
+    // The force as the CSV has it (to single precision): within the static cone, and on the
+    // kinetic force μₖ m g = 0.4 g where the block slips.
+    let values = numbers(&force["y"]);
+    assert!(values.len() > 100, "{} points", values.len());
+    let g = 9.81;
+    assert!(values.iter().all(|f| f.abs() <= 0.6 * g * (1.0 + 1e-6)));
+    let kinetic = values
+        .iter()
+        .filter(|f| (*f - 0.4 * g).abs() < 1e-5)
+        .count();
+    assert!(kinetic > values.len() / 10, "{kinetic} of {}", values.len());
+
+    // Each frame's mode says whether the belt sticks or slips, and both happen.
+    let modes: Vec<&str> = data["modes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m.as_str().unwrap())
+        .collect();
+    let stick = modes
+        .iter()
+        .position(|m| *m == "constrained:belt;stick:belt");
+    let slip = modes
+        .iter()
+        .position(|m| *m == "constrained:belt;slip:belt");
+    let frame_modes: Vec<usize> = data["frames"]["mode"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m.as_u64().unwrap() as usize)
+        .collect();
+    for state in [stick, slip] {
+        let state = state.expect("a mode of each state");
+        assert!(frame_modes.iter().filter(|&&m| m == state).count() > 10);
+    }
+    // Every event, the stick and slip events among them, in the table.
+    let kinds: Vec<&str> = data["events"]["kind"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| {
+            data["events"]["kinds"][k.as_u64().unwrap() as usize]
+                .as_str()
+                .unwrap()
+        })
+        .collect();
+    let expected: Vec<&str> = summary["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["kind"].as_str().unwrap())
+        .collect();
+    assert_eq!(kinds, expected);
+    assert!(
+        kinds.contains(&"stick") && kinds.contains(&"slip"),
+        "{kinds:?}"
+    );
+    // The energy balance, with the work of friction (the belt's work in the moving
+    // constraints').
+    assert_eq!(data["balance"], summary["energy_balance"]);
+    let work = data["balance"]["work_friction"].as_f64().unwrap();
+    assert!(work < -1.0, "{work}");
+
+    // The ball with backspin: its impacts' impulses, normal and tangential, on the floor.
+    let scratch = Scratch::new(&shipped("ball-backspin"));
+    assert_exit(&scratch.run(&["--report"]), 0);
+    let out = scratch.path("out");
+    let (summary, data) = (self::summary(&out), self::data(&out));
+    let impulses = &data["events"]["impulses"];
+    let names = &data["events"]["names"];
+    let events = summary["events"].as_array().unwrap();
+    assert_eq!(impulses["normal"].as_array().unwrap().len(), events.len());
+    for (k, event) in events.iter().enumerate() {
+        assert_eq!(impulses["normal"][k], event["impulses"], "event {k}");
+        let tangential = event.get("tangential_impulses").cloned();
+        let tangential = tangential.unwrap_or(serde_json::json!([]));
+        assert_eq!(impulses["tangential"][k], tangential, "event {k}");
+        let contacts: Vec<&Value> = impulses["contacts"][k]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| &names[c.as_u64().unwrap() as usize])
+            .collect();
+        let expected: Vec<&Value> = event["contacts"].as_array().unwrap().iter().collect();
+        assert_eq!(contacts, expected, "event {k}");
+    }
+    // The first impact sticks: the tangential impulse (5 ẋ⁻ − 2 r θ̇⁻)/7 − ẋ⁻ that stops the
+    // slip, (5 − 2·0.1·(−20))/7 − 1 = 2/7.
+    let first = impulses["tangential"][0][0].as_f64().unwrap();
+    assert!((first - 2.0 / 7.0).abs() < 1e-9, "{first}");
 }
 
 #[test]

@@ -2,7 +2,9 @@
 //! WebDriver protocol (HTTP and JSON, spoken here over a plain TCP stream). The report of the
 //! paper's ball loads with no error, its animation advances when played, moving the scrubber
 //! to the Zeno point puts the ball on the surface, and a screenshot is not blank (saved under
-//! target/tmp/report-browser/ to look at).
+//! target/tmp/report-browser/ to look at). The report of the block on a belt (friction) shows
+//! its stick and slip states, its tangential force, its impulses' columns and the work of
+//! friction.
 //!
 //! Needs /usr/bin/chromium and /usr/bin/chromedriver (Debian's `chromium` and
 //! `chromium-driver`). Without them the test is skipped with a note, unless
@@ -62,6 +64,15 @@ fn the_report_plays_in_a_browser() {
     assert!(severe.is_empty(), "the browser logged errors: {severe:?}");
     let shots = screenshots_dir();
     let start = session.screenshot(&shots.join("report-start.png"));
+    // Frictionless: no friction states (their strip takes no room), no impulses' columns.
+    let frictionless = session.script(
+        "return [document.getElementById('grips').offsetHeight, \
+           document.getElementById('grips-legend').offsetHeight, \
+           document.getElementById('grip-row').offsetHeight, \
+           document.querySelectorAll('#events-table th').length];",
+        json!([]),
+    );
+    assert_eq!(frictionless, json!([0, 0, 0, 4]));
 
     // The plots: the wheel zooms in time, the pointer reads the values, a box hides a series.
     let charts = session.script(
@@ -166,6 +177,115 @@ fn the_report_plays_in_a_browser() {
         started.elapsed().as_secs_f64(),
         shots.display()
     );
+}
+
+/// The report of a run with friction (the block on the belt: stick-slip) in the browser: no
+/// error; the readout says whether the belt sticks or slips at the time shown, as the mode of
+/// the run says; the strip of friction states under the scrubber is shown; the tangential
+/// force has its plot; the events' table has the impulses' columns and the energy balance the
+/// work of friction. Screenshots under target/tmp/report-browser/report-friction-*.png.
+#[test]
+fn the_report_of_a_run_with_friction_shows_its_states_in_a_browser() {
+    if !browser_available() {
+        return;
+    }
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../models/belt-stick-slip.toml");
+    let model = std::fs::read_to_string(&path).expect("the shipped belt");
+    let scratch = Scratch::new(&model);
+    assert_exit(&scratch.run(&["--report"]), 0);
+    let out = scratch.path("out");
+    let summary = summary(&out);
+    let events = summary["events"].as_array().expect("events");
+    let time_of = |kind: &str| {
+        events
+            .iter()
+            .find(|e| e["kind"] == kind)
+            .and_then(|e| e["t"].as_f64())
+            .unwrap_or_else(|| panic!("a {kind} event"))
+    };
+    let (stick, slip) = (time_of("stick"), time_of("slip"));
+    assert!(
+        stick < slip,
+        "the block sticks first ({stick}), then slips ({slip})"
+    );
+
+    let driver = Driver::start();
+    let session = driver.session();
+    let url = format!("file://{}", out.join("report.html").display());
+    session.post("url", json!({ "url": url }));
+    let errors = session.script("return window.zenosimErrors;", json!([]));
+    assert_eq!(errors, json!([]), "the page reported errors");
+
+    // Between its first stick and its first slip the block rides the belt; after the slip it
+    // slips. The readout says so, and so does the state.
+    let grip = |t: f64| {
+        let state = session.scrub(t);
+        let text = session.script(
+            "return document.getElementById('grip').textContent;",
+            json!([]),
+        );
+        (state, text)
+    };
+    let (state, text) = grip(0.5 * (stick + slip));
+    assert_eq!(state["stick"], json!(["belt"]), "{state}");
+    assert_eq!(state["slip"], json!([]), "{state}");
+    assert_eq!(text, json!("belt sticks"));
+    let shots = screenshots_dir();
+    let sticking = session.screenshot(&shots.join("report-friction-stick.png"));
+    let (state, text) = grip(slip + 0.1);
+    assert_eq!(state["slip"], json!(["belt"]), "{state}");
+    assert_eq!(text, json!("belt slips"));
+    let _ = session.screenshot(&shots.join("report-friction-slip.png"));
+
+    let page = session.script(
+        "const shown = (id) => !document.getElementById(id).hidden; \
+         const headings = (id) => Array.from(document.querySelectorAll('#' + id + ' th')) \
+           .map((th) => th.textContent); \
+         const cells = (id) => Array.from(document.querySelectorAll('#' + id + ' td')) \
+           .map((td) => td.textContent); \
+         return { strip: shown('grips') && document.getElementById('grips').clientHeight > 0, \
+           legend: shown('grips-legend'), row: shown('grip-row'), \
+           charts: window.zenosimReport.charts().map((c) => c.name), \
+           events: headings('events-table'), balance: cells('balance-table') };",
+        json!([]),
+    );
+    assert_eq!(page["strip"], json!(true), "{page}");
+    assert_eq!(page["legend"], json!(true), "{page}");
+    assert_eq!(page["row"], json!(true), "{page}");
+    assert_eq!(
+        page["charts"],
+        json!(["Displacements", "Velocities", "Energy", "Tangential forces"])
+    );
+    assert_eq!(
+        page["events"],
+        json!([
+            "",
+            "kind",
+            "t",
+            "constraint",
+            "impulse",
+            "tangential impulse"
+        ])
+    );
+    let balance: Vec<&str> = page["balance"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_str().unwrap())
+        .collect();
+    let at = balance
+        .iter()
+        .position(|c| *c == "work of friction")
+        .expect("the work of friction in the balance");
+    let work: f64 = balance[at + 1].parse().expect("a number");
+    let expected = summary["energy_balance"]["work_friction"].as_f64().unwrap();
+    assert!(
+        (work - expected).abs() <= 1e-8 * expected.abs(),
+        "{work} vs {expected}"
+    );
+    assert!(sticking.colours > 20 && sticking.inked > 0.02);
+    let errors = session.script("return window.zenosimErrors;", json!([]));
+    assert_eq!(errors, json!([]), "the page reported errors");
 }
 
 /// Whether Chromium and its driver are installed; their absence fails the test when

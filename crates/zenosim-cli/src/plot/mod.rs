@@ -6,7 +6,8 @@
 //! `figure`, the paper's Figs. 4/5 (velocities, displacements, configuration plane);
 //! `velocities`, `displacements`, `energy` against time (with `E(0) + work − impact loss`
 //! beside the energy when the trajectory has the energy balance's columns); `plane`; `zeno`,
-//! the flight times.
+//! the flight times; and for a run with friction `friction`, the tangential forces against
+//! time.
 
 mod animation;
 mod animation_frames;
@@ -41,6 +42,7 @@ pub use canvas::Format;
 pub use scene::PlaneScale;
 pub use style::short;
 pub use sweep_map::{draw_map, MapSpec};
+pub(crate) use time_chart::BALANCE;
 pub use work_precision::work_precision;
 
 use crate::cli::PlotArgs;
@@ -56,15 +58,20 @@ use time_chart::{Quantity, TimeChart};
 use trajectory_file::quote;
 use zeno_chart::ZenoChart;
 
-/// The plots' names, in the order they are written; the files are `<name>.<format>`.
-pub const PLOTS: [&str; 6] = [
+/// The plots' names, in the order they are written; the files are `<name>.<format>`. The last,
+/// [`FRICTION`], only for a run with friction.
+pub const PLOTS: [&str; 7] = [
     "figure",
     "velocities",
     "displacements",
     "plane",
     "energy",
     "zeno",
+    FRICTION,
 ];
+
+/// The plot of the tangential forces, drawn for a run of a model with friction only.
+pub const FRICTION: &str = "friction";
 
 /// Every file name a plot may have, in every format.
 pub fn plot_files() -> Vec<String> {
@@ -184,6 +191,10 @@ pub fn draw_scaled(
         render(&TimeChart { scene, quantity }, format),
     )?;
     write("zeno", render(&ZenoChart::new(&scene.record), format))?;
+    if !scene.record.friction.is_empty() {
+        let quantity = Quantity::Friction;
+        write(FRICTION, render(&TimeChart { scene, quantity }, format))?;
+    }
     Ok(written)
 }
 
@@ -214,7 +225,8 @@ mod tests {
     #[test]
     fn every_plot_has_a_file_in_each_format() {
         let files = plot_files();
-        assert_eq!(files.len(), 12);
+        assert_eq!(files.len(), 14);
+        assert!(files.contains(&"friction.png".to_string()));
         assert!(files.contains(&"figure.svg".to_string()));
         assert!(files.contains(&"zeno.png".to_string()));
     }

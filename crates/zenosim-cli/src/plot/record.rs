@@ -7,7 +7,7 @@ use std::io::BufReader;
 use std::path::Path;
 
 use anyhow::{anyhow, Context};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use zenosim_model::expr::{Bindings, Expression};
 
 use super::trajectory_file::quote;
@@ -49,6 +49,9 @@ pub struct Record {
     /// Where the run ended.
     #[serde(rename = "final")]
     pub final_: FinalRecord,
+    /// The energy balance of the whole run (absent from summaries before schema 3).
+    #[serde(default)]
+    pub energy_balance: Option<EnergyBalanceRecord>,
     /// The Zeno points.
     pub zeno: Vec<ZenoRecord>,
     /// Every event, in time order.
@@ -71,6 +74,30 @@ pub struct SettingsRecord {
 pub struct FinalRecord {
     /// When.
     pub t: Option<f64>,
+}
+
+/// The energy balance of a run, `E(end) − E(0) = work_forces + work_drive + work_constraints
+/// + work_friction − impact_loss` to the integration tolerance; `None` stands for a number
+/// that is not finite (`null`).
+#[derive(Debug, Deserialize, Serialize)]
+pub struct EnergyBalanceRecord {
+    /// `E(0)`.
+    pub energy_start: Option<f64>,
+    /// `E` at the end.
+    pub energy_end: Option<f64>,
+    /// The generalized forces' work.
+    pub work_forces: Option<f64>,
+    /// The work of the Lagrangian's explicit time dependence.
+    pub work_drive: Option<f64>,
+    /// The work of the constraints on surfaces that move.
+    pub work_constraints: Option<f64>,
+    /// The work of friction at slipping contacts: only in a model with friction.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub work_friction: Option<f64>,
+    /// The energy taken out by impacts and Zeno switches.
+    pub impact_loss: Option<f64>,
+    /// What the terms leave unexplained.
+    pub residual: Option<f64>,
 }
 
 /// A Zeno point.
@@ -114,12 +141,22 @@ impl ZenoRecord {
 /// An event.
 #[derive(Debug, Deserialize)]
 pub struct EventRecord {
-    /// `impact`, `zeno` or `liftoff`.
+    /// `impact`, `zeno`, `liftoff`, and with friction `stick` or `slip`.
     pub kind: String,
     /// When.
     pub t: f64,
     /// The constraint involved.
     pub constraint: String,
+    /// Every constraint involved (schema 2; empty in older summaries).
+    #[serde(default)]
+    pub contacts: Vec<String>,
+    /// For an impact, the impulse on each of `contacts` (schema 2); else empty.
+    #[serde(default)]
+    pub impulses: Vec<Option<f64>>,
+    /// For an impact on contacts with friction, the tangential impulse on each of `contacts`;
+    /// else empty.
+    #[serde(default)]
+    pub tangential_impulses: Vec<Option<f64>>,
     /// The state just before.
     pub before: StateRecord,
     /// The state just after: without `q` where it is `before`'s (schema 4).
@@ -250,7 +287,22 @@ impl Record {
         if self.events.windows(2).any(|w| w[1].t < w[0].t) {
             return Err("the events are not in time order".to_string());
         }
+        // Marks far outside the time axis would overflow the plots' pixel coordinates.
+        if let Some(bad) = times.iter().find(|&&t| !self.within_span(t)) {
+            let (start, end) = self.time_span();
+            return Err(format!(
+                "an event at t = {bad} is outside the run, from t = {start} to {end}"
+            ));
+        }
         Ok(())
+    }
+
+    /// Whether `t` lies in the plotted [`Record::time_span`], to a billionth of its size: every
+    /// time of the run's files does.
+    pub fn within_span(&self, t: f64) -> bool {
+        let (start, end) = self.time_span();
+        let slack = 1e-9 * (end - start).max(start.abs()).max(end.abs());
+        t >= start - slack && t <= end + slack
     }
 
     /// The plotted span of time: from the start to the stop time (or the end, if later).

@@ -41,6 +41,8 @@ pub const PALETTE: [RGBColor; 20] = [
 pub const IMPACT: RGBColor = RGBColor(214, 39, 40);
 /// Lift-off marks.
 pub const LIFTOFF: RGBColor = RGBColor(227, 119, 194);
+/// A contact's friction state changing: to stick (filled squares) or to slip (hollow ones).
+pub const GRIP: RGBColor = RGBColor(170, 0, 220);
 /// The switch to the constrained motion, and a stall.
 pub const SWITCH: RGBColor = RGBColor(0, 0, 0);
 /// The curves `h = 0`, in turn.
@@ -124,7 +126,7 @@ mod tests {
                 let d = distance(color(i), color(j));
                 assert!(d >= 45.0, "series {i} and {j}: {d}");
             }
-            for mark in [IMPACT, LIFTOFF] {
+            for mark in [IMPACT, LIFTOFF, GRIP] {
                 assert!(distance(color(i), mark) >= 60.0, "series {i}");
             }
         }

@@ -1,8 +1,9 @@
-//! Quantities against time (the velocities, the displacements, the energy), one line per
-//! series, with the run's events marked: impacts and lift-offs along the time axis, and each
-//! switch to the constrained motion (or the stall at a Zeno point) as a labelled vertical line.
-//! Beside the energy, when the trajectory has the energy balance, `E(0) + work − impact loss`
-//! dashed over it: where the balance holds, the two coincide.
+//! Quantities against time (the velocities, the displacements, the energy, the tangential
+//! forces of a model with friction), one line per series, with the run's events marked:
+//! impacts, lift-offs and (with friction) the contacts' changes to stick and to slip along the
+//! time axis, and each switch to the constrained motion (or the stall at a Zeno point) as a
+//! labelled vertical line. Beside the energy, when the trajectory has the energy balance,
+//! `E(0) + work − impact loss` dashed over it: where the balance holds, the two coincide.
 
 use plotters::chart::ChartContext;
 use plotters::coord::cartesian::Cartesian2d;
@@ -10,7 +11,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::{
     Circle, Color, DashedLineSeries, DrawingArea, EmptyElement, IntoFont, LineSeries, PathElement,
-    RGBColor, ShapeStyle, Text, TextStyle, TriangleMarker, WHITE,
+    RGBColor, Rectangle, ShapeStyle, Text, TextStyle, TriangleMarker, WHITE,
 };
 use plotters::style::text_anchor::{HPos, VPos};
 use plotters_backend::DrawingBackend;
@@ -18,7 +19,7 @@ use plotters_backend::DrawingBackend;
 use super::canvas::{Drawn, Picture, FONT};
 use super::chart::{axes, drawable, frame, legend, note, Entry, Sample};
 use super::scene::{pad, Scene};
-use super::style::{color, short, IMPACT, LIFTOFF, LINE_WIDTH, SWITCH, TEXT_SIZE};
+use super::style::{color, short, GRIP, IMPACT, LIFTOFF, LINE_WIDTH, SWITCH, TEXT_SIZE};
 use super::svg::Layer;
 
 /// The label of the energy balance's curve on the energy chart.
@@ -35,6 +36,8 @@ pub enum Quantity {
     Displacements,
     /// The energy against `t`.
     Energy,
+    /// The tangential forces `f_<constraint>` of the constraints with friction against `t`.
+    Friction,
 }
 
 impl Quantity {
@@ -44,6 +47,7 @@ impl Quantity {
             Quantity::Velocities => "velocities",
             Quantity::Displacements => "displacements",
             Quantity::Energy => "energy",
+            Quantity::Friction => "friction",
         }
     }
 
@@ -52,15 +56,31 @@ impl Quantity {
             Quantity::Velocities => "velocity",
             Quantity::Displacements => "displacement",
             Quantity::Energy => "energy",
+            Quantity::Friction => "tangential force",
         }
     }
 
-    /// The trajectory's series it shows as solid lines, and their colours' indices.
-    fn series(self, n: usize) -> std::ops::Range<usize> {
+    /// The trajectory's series it shows as solid lines.
+    fn series(self, scene: &Scene) -> std::ops::Range<usize> {
+        let n = scene.record.coordinates.len();
         match self {
             Quantity::Displacements => 0..n,
             Quantity::Velocities => n..2 * n,
             Quantity::Energy => 2 * n..2 * n + 1,
+            Quantity::Friction => scene.trajectory.friction.clone(),
+        }
+    }
+
+    /// The name of series `s` in the legend.
+    fn label(self, scene: &Scene, s: usize) -> String {
+        match self {
+            Quantity::Energy => "energy".to_string(),
+            Quantity::Friction => {
+                let k = s - scene.trajectory.friction.start;
+                let name = scene.record.friction.get(k).map_or("?", String::as_str);
+                format!("f_{name}")
+            }
+            _ => scene.name(s).to_string(),
         }
     }
 
@@ -81,7 +101,7 @@ pub struct TimeChart<'a> {
 impl Picture for TimeChart<'_> {
     fn size(&self) -> (u32, u32) {
         match self.quantity {
-            Quantity::Energy => (1000, 420),
+            Quantity::Energy | Quantity::Friction => (1000, 420),
             _ => (1000, 480),
         }
     }
@@ -102,7 +122,7 @@ pub fn draw_time<DB: DrawingBackend>(
     caption: &str,
 ) -> Drawn<DB> {
     let n = scene.record.coordinates.len();
-    let series = quantity.series(n);
+    let series = quantity.series(scene);
     let dashed = quantity.dashed(n, scene);
     let lines = &scene.trajectory;
     let range = series
@@ -115,22 +135,17 @@ pub fn draw_time<DB: DrawingBackend>(
     let (low, high) = pad(range, 0.1, 0.12);
     let (t0, t1) = scene.record.time_span();
     let t1 = if t1 > t0 { t1 } else { t0 + 1.0 };
-    let names: Vec<&str> = series
-        .clone()
-        .map(|s| match quantity {
-            Quantity::Energy => "energy",
-            _ => scene.name(s),
-        })
-        .collect();
+    let names: Vec<String> = series.clone().map(|s| quantity.label(scene, s)).collect();
     let styles: Vec<ShapeStyle> = (0..names.len())
         .map(|k| color(k).stroke_width(LINE_WIDTH))
         .collect();
     let record = &scene.record;
     let (impacts, liftoffs) = (record.times("impact"), record.times("liftoff"));
+    let (sticks, slips) = (record.times("stick"), record.times("slip"));
     let mut entries: Vec<Entry> = names
         .iter()
         .zip(&styles)
-        .map(|(name, &style)| Entry::new(*name, Sample::Line(style)))
+        .map(|(name, &style)| Entry::new(name.as_str(), Sample::Line(style)))
         .collect();
     let dashed_style = color(names.len()).stroke_width(LINE_WIDTH);
     if dashed.is_some() {
@@ -158,6 +173,18 @@ pub fn draw_time<DB: DrawingBackend>(
     if !liftoffs.is_empty() {
         let label = format!("lift-off ({})", liftoffs.len());
         entries.push(Entry::new(label, Sample::Triangle(LIFTOFF.filled())));
+    }
+    // A contact's friction state changing: filled squares where it starts to stick, hollow
+    // ones where it starts to slip.
+    let grips = [
+        ("stick", &sticks, GRIP.filled()),
+        ("slip", &slips, GRIP.stroke_width(2)),
+    ];
+    for (kind, times, style) in &grips {
+        if !times.is_empty() {
+            let label = format!("{kind} ({})", times.len());
+            entries.push(Entry::new(label, Sample::Square(*style)));
+        }
     }
     let switched = record.zeno.len() - usize::from(record.stalled());
     if switched > 1 {
@@ -196,6 +223,17 @@ pub fn draw_time<DB: DrawingBackend>(
             thin(&chart, &liftoffs)
                 .map(|t| EmptyElement::at((t, low)) + TriangleMarker::new((0, -20), 6, mark)),
         )?;
+    }
+    // The stick and slip marks, on a row above the impacts' and the lift-offs'.
+    let dy = -11 - 10 * rows.len().max(2) as i32;
+    for (kind, times, style) in grips {
+        if times.is_empty() {
+            continue;
+        }
+        layer.set(kind, "");
+        chart.draw_series(thin(&chart, times).map(|t| {
+            EmptyElement::at((t, low)) + Rectangle::new([(-4, dy - 4), (4, dy + 4)], style)
+        }))?;
     }
     legend(area, &chart, layer, &entries)
 }

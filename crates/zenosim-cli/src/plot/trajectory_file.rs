@@ -5,18 +5,20 @@
 //! the cubic through both rows' `q` and `q̇` (Hermite interpolation), its derivative for the
 //! velocities: exact for a free flight under constant gravity (a parabola), third order
 //! otherwise, where a straight chord would cut through the constraint's surface. The energy is
-//! joined by a straight line, and so is the energy balance `E(0) + work − impact loss` of a
-//! trajectory with its columns (a model that is not autonomous). The two rows of an event, at
-//! the same time, are not joined.
+//! joined by a straight line, and so are the energy balance `E(0) + work − impact loss` of a
+//! trajectory with its columns (a model that is not autonomous) and the tangential forces
+//! `f_<constraint>` of a model with friction. The two rows of an event, at the same time, are
+//! not joined.
 
 use std::fs::File;
+use std::ops::Range;
 use std::path::Path;
 
 use anyhow::{anyhow, bail, Context};
 
 use super::decimate::{Bounds, PathDecimator, TimeDecimator};
 use super::record::Record;
-use crate::trajectory::{self, WORK_COLUMNS};
+use crate::trajectory::{self, work_columns};
 
 /// Columns of the time axis kept per series: twice the widest plot's pixels.
 const TIME_COLUMNS: usize = 2048;
@@ -33,10 +35,14 @@ const MAX_BETWEEN: usize = 64;
 /// The trajectory, decimated for drawing.
 pub struct Trajectory {
     /// The series `q`, `q̇` (in the summary's order), then the energy, then (when
-    /// [`Trajectory::balance`]) `E(0) + work − impact loss`: `(t, value)` points.
+    /// [`Trajectory::balance`]) `E(0) + work − impact loss`, then the tangential forces
+    /// ([`Trajectory::friction`]): `(t, value)` points.
     pub lines: Vec<Vec<(f64, f64)>>,
     /// Whether the file has the energy balance's columns, and [`Trajectory::lines`] its series.
     pub balance: bool,
+    /// The series of the tangential forces `f_<constraint>`, in the order of the summary's
+    /// `friction` (empty for a frictionless run).
+    pub friction: Range<usize>,
     /// Each series' least and greatest values.
     pub ranges: Vec<Option<(f64, f64)>>,
     /// The path in the plane of two columns of `(q, q̇)`.
@@ -52,8 +58,8 @@ pub struct Row<'a> {
     /// Its `mode` column: `free`, or `constrained:` and the constraints held joined by `+`,
     /// then maybe `;stick:` and `;slip:` lists (docs/output.md).
     pub mode: &'a str,
-    /// `q…, q̇…`, the energy and, when the file has the energy balance's columns,
-    /// `E(0) + work − impact loss` (the layout [`hermite`] joins).
+    /// `q…, q̇…`, the energy, `E(0) + work − impact loss` when the file has the energy
+    /// balance's columns, then the tangential forces (the layout [`hermite`] joins).
     pub values: &'a [f64],
 }
 
@@ -97,9 +103,20 @@ pub fn read_with(
         )
     })?;
     let n = record.coordinates.len();
-    let energy = names.len() - 1 - if balance { WORK_COLUMNS.len() } else { 0 };
-    // The series: q, q̇, the energy, and E(0) + work − impact loss.
-    let series = 2 * n + 1 + usize::from(balance);
+    // The balance's columns: with friction, its work last.
+    let friction_columns = !record.friction.is_empty();
+    let works = if balance {
+        work_columns(friction_columns).count()
+    } else {
+        0
+    };
+    let energy = names.len() - 1 - works;
+    // The columns f_<constraint>, just before the energy.
+    let forces = energy - record.friction.len();
+    // The series: q, q̇, the energy, E(0) + work − impact loss, and the tangential forces.
+    let first = 2 * n + 1 + usize::from(balance);
+    let friction = first..first + record.friction.len();
+    let series = friction.end;
     let (t_start, t_end) = record.time_span();
     let columns = TIME_COLUMNS.min(TIME_CELLS / series).max(1);
     let mut lines = TimeDecimator::new(series, t_start, t_end, columns);
@@ -136,18 +153,27 @@ pub fn read_with(
                 })
         };
         let t = field(0)?;
+        if t.is_finite() && !record.within_span(t) {
+            bail!(
+                "{display}:{line}: a row at t = {t}, outside the run of summary.json (from t = \
+                 {t_start} to {t_end}): the files do not belong together; run the model again"
+            );
+        }
         for (k, value) in values.iter_mut().take(2 * n + 1).enumerate() {
             *value = field(if k < 2 * n { 2 + k } else { energy })?;
         }
         if balance {
-            let mut work = [0.0; WORK_COLUMNS.len()];
-            for (k, w) in work.iter_mut().enumerate() {
-                *w = field(energy + 1 + k)?;
+            // work_forces + work_drive + work_constraints (+ work_friction) − impact_loss.
+            let mut work = 0.0;
+            for (k, name) in work_columns(friction_columns).enumerate() {
+                let value = field(energy + 1 + k)?;
+                work += if name == "impact_loss" { -value } else { value };
             }
-            let [forces, drive, constraints, impact_loss] = work;
-            let work = forces + drive + constraints - impact_loss;
             let start = *energy_start.get_or_insert(values[2 * n] - work);
             values[2 * n + 1] = start + work;
+        }
+        for (k, value) in values[friction.clone()].iter_mut().enumerate() {
+            *value = field(forces + k)?;
         }
         rows += 1;
         let mode = std::str::from_utf8(&row[1])
@@ -163,7 +189,7 @@ pub fn read_with(
                 let steps = ((gap / column).ceil() as usize).min(MAX_BETWEEN);
                 for j in 1..steps {
                     let s = j as f64 / steps as f64;
-                    hermite(before, &values, gap, s, balance, &mut between);
+                    hermite(before, &values, gap, s, n, &mut between);
                     lines.push(t0 + s * gap, &between);
                     plane_path.push(between[plane.0], between[plane.1]);
                 }
@@ -190,17 +216,17 @@ pub fn read_with(
         lines: (0..series).map(|s| lines.series(s)).collect(),
         ranges: (0..series).map(|s| lines.range(s)).collect(),
         balance,
+        friction,
         path_bounds: plane_path.bounds(),
         path: plane_path.finish(),
     })
 }
 
-/// The point a fraction `s` of the way from row `a` to row `b`, `h` apart in time: each
-/// coordinate on the cubic with `a`'s and `b`'s values and velocities, each velocity its
-/// derivative; the values after them (the energy, the balance) on the straight line. Rows are
-/// `q…, q̇…, energy` and, for `balanced` rows, the balance.
-pub fn hermite(a: &[f64], b: &[f64], h: f64, s: f64, balanced: bool, out: &mut [f64]) {
-    let n = (a.len() - 1 - usize::from(balanced)) / 2;
+/// The point a fraction `s` of the way from row `a` to row `b`, `h` apart in time: each of the
+/// `n` coordinates on the cubic with `a`'s and `b`'s values and velocities, each velocity its
+/// derivative; the values after them (the energy, the balance, the tangential forces) on the
+/// straight line. Rows are `q…, q̇…` and then those values.
+pub fn hermite(a: &[f64], b: &[f64], h: f64, s: f64, n: usize, out: &mut [f64]) {
     let [h00, h10, h01, h11] = hermite_basis(s);
     // The basis's derivatives in s.
     let s2 = s * s;
@@ -267,7 +293,9 @@ fn check_header(header: &csv::ByteRecord, record: &Record) -> Result<(Vec<String
          autonomous) for {} coordinates and {m} constraints{friction}",
         quote(&names.join(",")),
         quote(&expected.join(",")),
-        WORK_COLUMNS.join(","),
+        work_columns(!record.friction.is_empty())
+            .collect::<Vec<_>>()
+            .join(","),
         record.coordinates.len()
     ))
 }
@@ -351,7 +379,7 @@ mod tests {
         let (t0, t1) = (0.1, 0.9);
         let mut out = vec![0.0; 5];
         for s in [0.0, 0.25, 0.5, 0.9, 1.0] {
-            hermite(&row(t0), &row(t1), t1 - t0, s, false, &mut out);
+            hermite(&row(t0), &row(t1), t1 - t0, s, 2, &mut out);
             let exact = row(t0 + s * (t1 - t0));
             for (k, (a, b)) in out.iter().zip(&exact).enumerate() {
                 assert!((a - b).abs() < 1e-12, "s = {s}, value {k}: {a} vs {b}");
@@ -364,7 +392,7 @@ mod tests {
         // x = sin t over a step of 0.2: the cubic errs by about h⁴/384.
         let row = |t: f64| vec![t.sin(), t.cos(), 0.0];
         let mut out = vec![0.0; 3];
-        hermite(&row(1.0), &row(1.2), 0.2, 0.5, false, &mut out);
+        hermite(&row(1.0), &row(1.2), 0.2, 0.5, 1, &mut out);
         assert!((out[0] - 1.1_f64.sin()).abs() < 1e-5, "{}", out[0]);
         assert!((out[1] - 1.1_f64.cos()).abs() < 1e-3, "{}", out[1]);
     }
@@ -373,7 +401,7 @@ mod tests {
     fn the_energy_and_the_balance_are_joined_by_straight_lines() {
         let (a, b) = ([0.0, 1.0, 4.0, 4.5], [1.0, 1.0, 2.0, 2.5]);
         let mut out = [0.0; 4];
-        hermite(&a, &b, 1.0, 0.25, true, &mut out);
+        hermite(&a, &b, 1.0, 0.25, 1, &mut out);
         assert_eq!(out[0], 0.25, "x moves at its speed 1");
         assert_eq!(out[1], 1.0);
         assert_eq!((out[2], out[3]), (3.5, 4.0));

@@ -1,6 +1,6 @@
 //! The data the page draws, one JSON blob: the run's record, the animation's frames, the
-//! mechanism's points at each frame, the plots' decimated series, the events and the Zeno
-//! points.
+//! mechanism's points at each frame, the plots' decimated series, the events (with friction,
+//! their normal and tangential impulses), the Zeno points and the energy balance.
 //!
 //! Sizes: times are kept exact (events near a Zeno point are microseconds apart), the plotted
 //! values and the drawn positions to single precision (seven digits, finer than a pixel);
@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use super::frames::Frames;
 use super::mechanism::Drawn;
-use crate::plot::record::Record;
+use crate::plot::record::{EnergyBalanceRecord, Record};
 use crate::plot::trajectory_file::Trajectory;
 
 /// The page's data.
@@ -24,6 +24,10 @@ pub struct Data<'a> {
     span: [f64; 2],
     coordinates: &'a [String],
     constraints: &'a [String],
+    /// The constraints with friction, whose tangential forces are plotted and whose states
+    /// (`;stick:`, `;slip:` in the modes) are shown; left out for a frictionless run.
+    #[serde(skip_serializing_if = "<[String]>::is_empty")]
+    friction: &'a [String],
     modes: &'a [String],
     frames: FramesJson<'a>,
     /// The mechanism, or `null` and [`Data::note`] saying why not.
@@ -32,6 +36,8 @@ pub struct Data<'a> {
     series: Vec<Series>,
     events: Events,
     zeno: Vec<Zeno<'a>>,
+    /// The energy balance of the whole run (`null` for a summary older than schema 3).
+    balance: Option<&'a EnergyBalanceRecord>,
 }
 
 #[derive(Serialize)]
@@ -59,6 +65,19 @@ struct Events {
     kinds: Vec<String>,
     constraint: Vec<u32>,
     names: Vec<String>,
+    /// In a run with friction, each event's impulses; left out otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    impulses: Option<Impulses>,
+}
+
+/// The impulses of each event (empty lists but for impacts): on each of its contacts (indices
+/// into the events' `names`), the normal impulse and the tangential one (along increasing
+/// slip; empty for an impact on contacts without friction).
+#[derive(Serialize)]
+struct Impulses {
+    contacts: Vec<Vec<u32>>,
+    normal: Vec<Vec<Option<f64>>>,
+    tangential: Vec<Vec<Option<f64>>>,
 }
 
 #[derive(Serialize)]
@@ -94,6 +113,7 @@ impl<'a> Data<'a> {
             span: [first, last],
             coordinates: &record.coordinates,
             constraints: &record.constraints,
+            friction: &record.friction,
             modes: &frames.modes,
             frames: FramesJson {
                 t: &frames.t,
@@ -120,17 +140,20 @@ impl<'a> Data<'a> {
                     ratio: z.ratio,
                 })
                 .collect(),
+            balance: record.energy_balance.as_ref(),
         }
     }
 }
 
-/// The plotted series: the coordinates, the velocities, the energy (and its balance).
+/// The plotted series: the coordinates, the velocities, the energy (and its balance), and the
+/// tangential forces of a run with friction.
 fn series(record: &Record, trajectory: &Trajectory) -> Vec<Series> {
     let n = record.coordinates.len();
-    let names = record.columns().cloned().chain([
-        "energy".to_string(),
-        "E(0) + work − impact loss".to_string(),
-    ]);
+    let energy = ["energy".to_string()]
+        .into_iter()
+        .chain(trajectory.balance.then(|| crate::plot::BALANCE.to_string()));
+    let forces = record.friction.iter().map(|c| format!("f_{c}"));
+    let names = record.columns().cloned().chain(energy).chain(forces);
     names
         .zip(&trajectory.lines)
         .enumerate()
@@ -140,6 +163,8 @@ fn series(record: &Record, trajectory: &Trajectory) -> Vec<Series> {
                 "Displacements"
             } else if k < 2 * n {
                 "Velocities"
+            } else if trajectory.friction.contains(&k) {
+                "Tangential forces"
             } else {
                 "Energy"
             },
@@ -150,12 +175,18 @@ fn series(record: &Record, trajectory: &Trajectory) -> Vec<Series> {
 }
 
 fn events(record: &Record) -> Events {
+    let count = record.events.len();
     let mut events = Events {
-        t: Vec::with_capacity(record.events.len()),
-        kind: Vec::with_capacity(record.events.len()),
+        t: Vec::with_capacity(count),
+        kind: Vec::with_capacity(count),
         kinds: Vec::new(),
-        constraint: Vec::with_capacity(record.events.len()),
+        constraint: Vec::with_capacity(count),
         names: record.constraints.clone(),
+        impulses: (!record.friction.is_empty()).then(|| Impulses {
+            contacts: Vec::with_capacity(count),
+            normal: Vec::with_capacity(count),
+            tangential: Vec::with_capacity(count),
+        }),
     };
     let index = |list: &mut Vec<String>, name: &str| match list.iter().position(|x| x == name) {
         Some(k) => k as u32,
@@ -170,6 +201,13 @@ fn events(record: &Record) -> Events {
         events
             .constraint
             .push(index(&mut events.names, &event.constraint));
+        if let Some(impulses) = &mut events.impulses {
+            let contacts = event.contacts.iter();
+            let contacts = contacts.map(|c| index(&mut events.names, c)).collect();
+            impulses.contacts.push(contacts);
+            impulses.normal.push(event.impulses.clone());
+            impulses.tangential.push(event.tangential_impulses.clone());
+        }
     }
     events
 }

@@ -85,11 +85,10 @@ impl Frames {
                     }
                     if gap > self.width {
                         let steps = ((gap / self.width).ceil() as usize).min(COLUMNS);
-                        let balanced = before.len() > 2 * self.n + 1;
                         self.between.resize(before.len(), 0.0);
                         for j in 1..steps {
                             let s = j as f64 / steps as f64;
-                            hermite(before, row.values, gap, s, balanced, &mut self.between);
+                            hermite(before, row.values, gap, s, self.n, &mut self.between);
                             let q = std::mem::take(&mut self.between);
                             self.keep(*t0 + s * gap, *mode0, &q);
                             self.between = q;

@@ -1,5 +1,6 @@
-// The report of a zenosim run: the animation of the mechanism, the plots, the events and the
-// Zeno points, drawn on canvases from the JSON in #zenosim-data (written by `zenosim report`).
+// The report of a zenosim run: the animation of the mechanism, the plots, the events, the
+// Zeno points and the energy balance, drawn on canvases from the JSON in #zenosim-data (written
+// by `zenosim report`); with friction, the contacts' stick and slip states over time too.
 // No library: everything here is plain DOM and canvas.
 "use strict";
 (function () {
@@ -10,6 +11,11 @@
   const [tStart, tEnd] = data.span;
   const palette = ["#1f5fbf", "#d9822b", "#2e8b57", "#8e44ad", "#c0392b", "#16a2b8",
     "#7f6a00", "#e84393", "#34495e", "#6d8c00"];
+  // The constraints with friction (none in a frictionless run), and the colours of their
+  // states: sticking, slipping (as the plots mark a change to each).
+  const friction = data.friction || [];
+  const STICK = "#aa00dc";
+  const SLIP = "#e3b3f0";
   const $ = (id) => document.getElementById(id);
 
   // ---- Numbers -------------------------------------------------------------------------------
@@ -88,6 +94,27 @@
     const heldPart = semicolon < 0 ? mode : mode.slice(0, semicolon);
     const colon = heldPart.indexOf(":");
     return colon < 0 ? [] : heldPart.slice(colon + 1).split("+").filter((c) => c.length > 0);
+  }
+
+  // The contacts that stick and those that slip in a mode `…;stick:a+b;slip:c`.
+  function grips(mode) {
+    const out = { stick: [], slip: [] };
+    mode.split(";").slice(1).forEach((part) => {
+      const colon = part.indexOf(":");
+      const label = part.slice(0, colon);
+      if (label !== "stick" && label !== "slip") return;
+      part.slice(colon + 1).split("+").forEach((c) => { if (c.length > 0) out[label].push(c); });
+    });
+    return out;
+  }
+  const modeGrips = data.modes.map(grips);
+
+  // How the timeline and the plots mark an event of `kind`: its colour and its height.
+  function eventMark(kind) {
+    if (kind === "liftoff") return { color: "#2e8b57", height: 14 };
+    if (kind === "stick") return { color: STICK, height: 12 };
+    if (kind === "slip") return { color: "#c77ddb", height: 12 };
+    return { color: "#5b6575", height: 10 };
   }
 
   function qAt(at) {
@@ -170,7 +197,7 @@
     mech.moving.forEach((k, m) => { mech.movingIndex[k] = m; });
   }
 
-  function drawMechanism(at, heldNow) {
+  function drawMechanism(at, heldNow, gripNow) {
     const { ctx, width, height } = fit(mechCanvas);
     if (!mech) return;
     const pad = 24;
@@ -214,15 +241,21 @@
       } else if (shape.polyline || shape.surface) {
         const list = shape.polyline || shape.surface;
         list.forEach((k) => { inShape[k] = 1; });
+        // A surface held is red, dashed in orange where its contact slips.
+        let slipping = false;
         if (shape.surface) {
-          const isHeld = heldNow.indexOf(data.constraints[shape.constraint]) >= 0;
-          ctx.strokeStyle = isHeld ? "#c0392b" : "#6b7280";
+          const name = data.constraints[shape.constraint];
+          const isHeld = heldNow.indexOf(name) >= 0;
+          slipping = isHeld && gripNow.slip.indexOf(name) >= 0;
+          ctx.strokeStyle = slipping ? "#d9822b" : isHeld ? "#c0392b" : "#6b7280";
           ctx.lineWidth = isHeld ? 3.5 : 2;
         }
         ctx.beginPath();
         list.forEach((k, j) => { if (j === 0) ctx.moveTo(...P(k)); else ctx.lineTo(...P(k)); });
         if (shape.closed) ctx.closePath();
+        if (slipping) ctx.setLineDash([8, 5]);
         ctx.stroke();
+        ctx.setLineDash([]);
       } else if (shape.circle !== undefined) {
         inShape[shape.circle] = 1;
         const [cx, cy] = P(shape.circle);
@@ -359,11 +392,11 @@
     const kinds = data.events.kinds;
     ctx.lineWidth = 1;
     for (let e = 0; e < data.events.t.length; e++) {
-      const kind = kinds[data.events.kind[e]];
+      const mark = eventMark(kinds[data.events.kind[e]]);
       const x = X(data.events.t[e]);
-      ctx.strokeStyle = kind === "liftoff" ? "#2e8b57" : "#5b6575";
+      ctx.strokeStyle = mark.color;
       ctx.beginPath();
-      ctx.moveTo(x, height - (kind === "liftoff" ? 14 : 10));
+      ctx.moveTo(x, height - mark.height);
       ctx.lineTo(x, height);
       ctx.stroke();
     }
@@ -399,6 +432,63 @@
   }
   marks.addEventListener("click", (e) => {
     const box = marks.getBoundingClientRect();
+    seek(tStart + (tEnd - tStart) * (e.clientX - box.left - 8) / Math.max(1, box.width - 16));
+  });
+
+  // ---- The contacts' friction states over time -------------------------------------------------
+
+  // Under the scrubber, a row per constraint with friction: where it is held sticking, where
+  // slipping (blank where not held), from the frames' modes. Each row's spans of one state.
+  const gripsCanvas = $("grips");
+  const gripRow = 14;
+  const gripSpans = friction.map((name) => {
+    const spans = [];
+    for (let f = 0; f < frameCount; f++) {
+      const g = modeGrips[frames.mode[f]];
+      const state = g.stick.indexOf(name) >= 0 ? "stick" : g.slip.indexOf(name) >= 0 ? "slip" : null;
+      const last = spans[spans.length - 1];
+      if (last && last.state === state) continue;
+      if (last) last.to = frames.t[f];
+      spans.push({ state, from: frames.t[f], to: tEnd });
+    }
+    return spans.filter((s) => s.state !== null);
+  });
+  if (friction.length) {
+    gripsCanvas.hidden = false;
+    gripsCanvas.style.height = (friction.length * gripRow + 2) + "px";
+    $("grips-legend").hidden = false;
+    $("grip-row").hidden = false;
+  }
+
+  function drawGrips() {
+    if (!friction.length) return;
+    const { ctx, width, height } = fit(gripsCanvas);
+    const inset = 8;
+    const X = (t) => inset + (width - 2 * inset) * (t - tStart) / Math.max(tEnd - tStart, 1e-300);
+    ctx.font = "10px system-ui, sans-serif";
+    friction.forEach((name, r) => {
+      const y = 1 + r * gripRow;
+      ctx.fillStyle = "#f1f3f6";
+      ctx.fillRect(inset, y, width - 2 * inset, gripRow - 2);
+      gripSpans[r].forEach((s) => {
+        ctx.fillStyle = s.state === "stick" ? STICK : SLIP;
+        ctx.fillRect(X(s.from), y, Math.max(X(s.to) - X(s.from), 1), gripRow - 2);
+      });
+      ctx.lineWidth = 3;
+      ctx.strokeStyle = "rgba(255, 255, 255, 0.85)";
+      ctx.strokeText(name, inset + 3, y + 10);
+      ctx.fillStyle = "#1d2430";
+      ctx.fillText(name, inset + 3, y + 10);
+    });
+    ctx.strokeStyle = "#1f5fbf";
+    ctx.lineWidth = 1;
+    ctx.beginPath();
+    ctx.moveTo(X(time), 0);
+    ctx.lineTo(X(time), height);
+    ctx.stroke();
+  }
+  gripsCanvas.addEventListener("click", (e) => {
+    const box = gripsCanvas.getBoundingClientRect();
     seek(tStart + (tEnd - tStart) * (e.clientX - box.left - 8) / Math.max(1, box.width - 16));
   });
 
@@ -505,7 +595,8 @@
     for (let e = 0; e < data.events.t.length; e++) {
       const t = data.events.t[e];
       if (t < x0 || t > x1) continue;
-      ctx.strokeStyle = data.events.kinds[data.events.kind[e]] === "liftoff" ? "#2e8b57" : "#9aa3b2";
+      const kind = data.events.kinds[data.events.kind[e]];
+      ctx.strokeStyle = kind === "impact" || kind === "zeno" ? "#9aa3b2" : eventMark(kind).color;
       ctx.beginPath(); ctx.moveTo(X(t), L.bottom); ctx.lineTo(X(t), L.bottom - 6); ctx.stroke();
     }
     ctx.setLineDash([5, 4]);
@@ -686,9 +777,37 @@
   }
 
   const ev = data.events;
-  if (!table($("events-table"), ["", "kind", "t", "constraint"], ev.t.length, (i) => [
-    String(i + 1), ev.kinds[ev.kind[i]], seekLink(ev.t[i]), ev.names[ev.constraint[i]] || ""], 1000)) {
+  // With friction, each impact's normal and tangential impulses: a number for an impact on one
+  // contact, `name value` for each of several.
+  const imp = ev.impulses;
+  function impulses(i, values) {
+    if (!values || values.length === 0) return "";
+    if (values.length === 1) return fmt(values[0], 6);
+    return values.map((v, k) => (ev.names[imp.contacts[i][k]] || "?") + " " + fmt(v, 6)).join(", ");
+  }
+  const eventHeadings = ["", "kind", "t", "constraint"].concat(imp ? ["impulse", "tangential impulse"] : []);
+  if (!table($("events-table"), eventHeadings, ev.t.length, (i) => [
+    String(i + 1), ev.kinds[ev.kind[i]], seekLink(ev.t[i]), ev.names[ev.constraint[i]] || ""]
+    .concat(imp ? [impulses(i, imp.normal[i]), impulses(i, imp.tangential[i])] : []), 1000)) {
     $("events-table").textContent = "None in this run.";
+  }
+
+  // The energy balance: E(end) − E(0) = the works − the impact loss + the residual; the work of
+  // friction only for a model with friction.
+  const balance = data.balance;
+  if (balance) {
+    const terms = [
+      ["E(0)", balance.energy_start],
+      ["work of the forces", balance.work_forces],
+      ["work of the time dependence (drive)", balance.work_drive],
+      ["work of the moving constraints", balance.work_constraints],
+    ];
+    if ("work_friction" in balance) terms.push(["work of friction", balance.work_friction]);
+    terms.push(["impact loss (taken out)", balance.impact_loss], ["E(end)", balance.energy_end],
+      ["residual", balance.residual]);
+    table($("balance-table"), ["", "energy"], terms.length, (i) => [terms[i][0], fmt(terms[i][1], 10)], 100);
+  } else {
+    $("balance-table").textContent = "Not in this summary.json (written before the energy balance was).";
   }
 
   // ---- The page ------------------------------------------------------------------------------
@@ -705,15 +824,21 @@
     const at = locate(time);
     const mode = modeAt(at.i);
     const heldNow = held(mode);
+    const gripNow = modeGrips[frames.mode[at.i]] || { stick: [], slip: [] };
     placePoints(at);
-    drawMechanism(at, heldNow);
+    drawMechanism(at, heldNow, gripNow);
     $("time").textContent = fmt(time, 12);
     $("mode").textContent = mode.split(";")[0].split(":")[0];
     $("held").textContent = heldNow.length ? heldNow.join(", ") : "none";
+    if (friction.length) {
+      const states = gripNow.stick.map((c) => c + " sticks").concat(gripNow.slip.map((c) => c + " slips"));
+      $("grip").textContent = states.length ? states.join(", ") : "none held";
+    }
     const q = qAt(at);
     stateCells.forEach((cell, k) => { cell.textContent = fmt(q[k], 10); });
     if (document.activeElement !== scrubber) scrubber.value = String(time);
     drawMarks();
+    drawGrips();
     charts.forEach((c) => c.draw());
   }
 
@@ -724,7 +849,9 @@
     state: function () {
       const at = locate(time);
       const mode = modeAt(at.i);
-      const out = { t: time, playing, mode, held: held(mode), q: qAt(at), points: null, names: null };
+      const g = grips(mode);
+      const out = { t: time, playing, mode, held: held(mode), stick: g.stick, slip: g.slip, q: qAt(at),
+        points: null, names: null };
       if (mech) {
         placePoints(at);
         out.points = [];
