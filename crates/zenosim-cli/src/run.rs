@@ -12,7 +12,7 @@ use zenosim_runs::json_layout;
 use zenosim_runs::message::{failure, message, output_cap, plural};
 use zenosim_runs::number::number;
 use zenosim_runs::summary::{
-    constraint_names, friction_indices, status, EnergyBalanceJson, Record, Summary, TrajectoryJson,
+    constraint_names, friction_columns, status, EnergyBalanceJson, Record, Summary, TrajectoryJson,
 };
 use zenosim_runs::Status;
 
@@ -77,7 +77,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     let out = OutputDir::prepare(&dir).output()?;
     let constraints = constraint_names(&file);
     // The constraints with friction: a column of tangential force each.
-    let friction = friction_indices(&file.model);
+    let friction = friction_columns(&file.model);
     // A model with forces, time or moving surfaces: the energy balance's columns too.
     let autonomous = file.model.is_autonomous();
 

@@ -33,15 +33,18 @@ pub fn work_columns(friction: bool) -> impl Iterator<Item = &'static str> {
         .chain(friction.then_some(WORK_FRICTION))
 }
 
+pub use zenosim_runs::summary::force_column;
+
 /// The header of `trajectory.csv`:
-/// `t,mode,<columns of (q, q̇)...>,h_<c>...,lambda_<c>...,f_<c>...,energy`, with `f_<c>` (the
-/// tangential force) for each constraint of `friction` (those with friction, in the model's
-/// order; none for a frictionless model), then when `work` the energy balance's
+/// `t,mode,<columns of (q, q̇)...>,h_<c>...,lambda_<c>...,f_<c>...,energy`, with a column of
+/// tangential force ([`force_column`]) for each `(constraint, component)` of `friction` (those
+/// with friction, in the model's order, a contact in space's two components one after the
+/// other; none for a frictionless model), then when `work` the energy balance's
 /// [`work_columns`].
 pub fn header<'a>(
     columns: impl IntoIterator<Item = &'a String>,
     constraints: &[String],
-    friction: &[String],
+    friction: &[(&str, usize)],
     work: bool,
 ) -> Vec<String> {
     let work_columns = work_columns(!friction.is_empty()).filter(|_| work);
@@ -51,7 +54,7 @@ pub fn header<'a>(
         .chain(columns.into_iter().cloned())
         .chain(constraints.iter().map(|c| format!("h_{c}")))
         .chain(constraints.iter().map(|c| format!("lambda_{c}")))
-        .chain(friction.iter().map(|c| format!("f_{c}")))
+        .chain(friction.iter().map(|&(c, k)| force_column(c, k)))
         .chain(std::iter::once("energy".to_string()))
         .chain(work_columns.map(str::to_string))
         .collect()
@@ -85,8 +88,8 @@ pub struct TrajectoryWriter<W: io::Write> {
     progress: Progress,
     /// The constraints' names, for the held set in the `mode` column.
     constraints: Vec<String>,
-    /// The indices of the constraints with friction: a column `f_<name>` each.
-    friction: Vec<usize>,
+    /// The columns of tangential force: `(constraint index, component)`.
+    friction: Vec<(usize, usize)>,
     mode: String,
     /// Whether the rows end with the energy balance's [`work_columns`].
     work: bool,
@@ -118,7 +121,7 @@ impl<W: io::Write> TrajectoryWriter<W> {
         coordinates: &[String],
         velocities: &[String],
         constraints: &[String],
-        friction: &[usize],
+        friction: &[(usize, usize)],
         work: bool,
         max_bytes: u64,
         progress: Progress,
@@ -141,9 +144,9 @@ impl<W: io::Write> TrajectoryWriter<W> {
             mode: String::new(),
             work,
         };
-        let friction_names: Vec<String> = friction
+        let friction_names: Vec<(&str, usize)> = friction
             .iter()
-            .map(|&i| constraints.get(i).map_or("?", String::as_str).to_string())
+            .map(|&(i, k)| (constraints.get(i).map_or("?", String::as_str), k))
             .collect();
         let header = header(
             coordinates.iter().chain(velocities),
@@ -215,8 +218,13 @@ impl<W: io::Write> TrajectoryWriter<W> {
         for &x in s.q.iter().chain(s.q_dot).chain(s.h).chain(s.lambda) {
             self.field(x)?;
         }
-        for &index in &self.friction {
-            let x = s.friction.get(index).copied().unwrap_or(f64::NAN);
+        for &(index, component) in &self.friction {
+            let forces = if component == 0 {
+                s.friction
+            } else {
+                s.friction_across
+            };
+            let x = forces.get(index).copied().unwrap_or(f64::NAN);
             write_number(&mut self.csv, &mut self.number, x)?;
         }
         self.field(s.energy)?;
@@ -342,25 +350,26 @@ mod tests {
     fn friction_has_its_columns_and_its_states_in_the_mode() {
         use zenosim::{ActiveSet, Grips};
         let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-        // Constraints 0 and 2 have friction, 1 (the wall) has none.
+        // Constraints 0 and 2 have friction, 1 (the wall) has none; 2 is a contact in space
+        // (two components).
         assert_eq!(
             header(
                 &names(&["x", "x_dot"]),
                 &names(&["left", "wall", "right"]),
-                &names(&["left", "right"]),
+                &[("left", 0), ("right", 0), ("right", 1)],
                 true,
             )
             .join(","),
             "t,mode,x,x_dot,h_left,h_wall,h_right,lambda_left,lambda_wall,lambda_right,\
-             f_left,f_right,energy,work_forces,work_drive,work_constraints,impact_loss,\
-             work_friction"
+             f_left,f_right,f2_right,energy,work_forces,work_drive,work_constraints,\
+             impact_loss,work_friction"
         );
         let mut writer = TrajectoryWriter::new(
             Vec::new(),
             &names(&["x", "y"]),
             &names(&["x_dot", "y_dot"]),
             &names(&["left", "wall", "right"]),
-            &[0, 2],
+            &[(0, 0), (2, 0)],
             false,
             u64::MAX,
             Progress::hidden(),
@@ -535,7 +544,7 @@ mod tests {
             &names(&["x"]),
             &names(&["x_dot"]),
             &names(&["floor"]),
-            &[0],
+            &[(0, 0)],
             true,
             u64::MAX,
             Progress::hidden(),
@@ -553,6 +562,7 @@ mod tests {
             h: &[1.0],
             lambda: &[0.0],
             friction: &[0.0],
+            friction_across: &[0.0],
             grips: zenosim::Grips::none(),
             energy: 2.0,
             work,

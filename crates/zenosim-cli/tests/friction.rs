@@ -158,3 +158,65 @@ fn a_coefficient_of_0_is_frictionless() {
     assert!(summary(&out).get("friction").is_none());
     assert_exit(&scratch.zenosim(&["plot", "out"]), 0);
 }
+
+/// A contact in space (models/sphere-slide-spin.toml, two slip components): `trajectory.csv`
+/// has its force's second component `f2_plane` right after `f_plane`, `summary.json` lists it
+/// under `friction_in_space`, and the plots and the report read the run back. While the
+/// sphere slides, the force is `μ m g` against the slip `u₀ = (3.5, 1.5)` (closed form: the
+/// slip keeps its direction); once it rolls, 0.
+#[test]
+fn a_contact_in_space_writes_both_components_of_its_force() {
+    let scratch = Scratch::new(&shipped("sphere-slide-spin"));
+    assert_exit(&scratch.run(&[]), 0);
+    let out = scratch.path("out");
+    let csv = Csv::read(&out.join("trajectory.csv"));
+    assert_eq!(
+        csv.header.join(","),
+        "t,mode,x,y,z,a,b,c,x_dot,y_dot,z_dot,a_dot,b_dot,c_dot,h_plane,lambda_plane,\
+         f_plane,f2_plane,energy"
+    );
+    let (f1, f2) = (csv.column("f_plane"), csv.column("f2_plane"));
+    let size = 0.3 * G;
+    let u = [3.5 / 3.5_f64.hypot(1.5), 1.5 / 3.5_f64.hypot(1.5)];
+    let (mut slipping, mut sticking) = (0, 0);
+    for row in &csv.rows {
+        let f = [row.values[f1], row.values[f2]];
+        match grips(&row.mode) {
+            (stick, _) if stick == ["plane"] => {
+                sticking += 1;
+                assert!(
+                    f[0].abs() < 1e-12 && f[1].abs() < 1e-12,
+                    "t = {}: {f:?}",
+                    row.t
+                );
+            }
+            (_, slip) if slip == ["plane"] => {
+                slipping += 1;
+                // μ m g exactly, against u₀: its direction is the slip's, whose error (about
+                // 1e-13, the integration's) turns it by that over the slip's size.
+                assert!(
+                    (f[0].hypot(f[1]) - size).abs() < 1e-12,
+                    "t = {}: {f:?}",
+                    row.t
+                );
+                assert!(f[0] * u[0] + f[1] * u[1] < 0.0, "t = {}: {f:?}", row.t);
+                let v = |name: &str| row.values[csv.column(name)];
+                let slip = (v("x_dot") - 0.1 * v("b_dot")).hypot(v("y_dot") + 0.1 * v("a_dot"));
+                let across = f[0] * u[1] - f[1] * u[0];
+                assert!(
+                    across.abs() < size * (1e-12 + 1e-13 / slip),
+                    "t = {}: {f:?}, slip {slip}",
+                    row.t
+                );
+            }
+            other => panic!("t = {}: {other:?}", row.t),
+        }
+    }
+    assert!(slipping > 0 && sticking > 0, "{slipping} {sticking}");
+    let s = summary(&out);
+    assert_eq!(s["friction"], serde_json::json!(["plane"]));
+    assert_eq!(s["friction_in_space"], serde_json::json!(["plane"]));
+    assert_exit(&scratch.zenosim(&["plot", "out"]), 0);
+    assert_exit(&scratch.zenosim(&["report", "out"]), 0);
+    assert!(out.join("report.html").exists());
+}

@@ -508,13 +508,17 @@ impl<'s> Cx<'s> {
 
         let constraints = self.constraints(root, &names)?;
         // The trajectory's columns h_<constraint>, lambda_<constraint> and, with friction,
-        // f_<constraint> must not repeat a coordinate's or a velocity's.
+        // f_<constraint> (and f2_<constraint> in space) must not repeat a coordinate's or a
+        // velocity's.
         for c in &constraints {
             let rough = c
                 .friction
                 .as_ref()
-                .is_some_and(|(f, _)| f.static_coefficient > 0.0 || f.kinetic_coefficient > 0.0);
-            let friction = rough.then(|| format!("f_{}", c.name));
+                .filter(|(f, _)| f.static_coefficient > 0.0 || f.kinetic_coefficient > 0.0);
+            let friction = rough.into_iter().flat_map(|(_, slip)| {
+                let second = (slip.len() == 2).then(|| format!("f2_{}", c.name));
+                std::iter::once(format!("f_{}", c.name)).chain(second)
+            });
             for column in [format!("h_{}", c.name), format!("lambda_{}", c.name)]
                 .into_iter()
                 .chain(friction)

@@ -534,6 +534,21 @@ fn a_coordinate_named_as_a_friction_column_is_refused() {
         error.contains("coordinate `f_floor` has the name of constraint `floor`'s column"),
         "{error}"
     );
+    // A contact in space has a second column, f2_<name>.
+    let source_in_space = GOOD
+        .replace("\"x\", \"y\"", "\"f2_floor\", \"y\"")
+        .replace("x_dot", "f2_floor_dot")
+        .replace(
+            "slip = [\"f2_floor_dot\"]",
+            "slip = [\"f2_floor_dot\", \"y_dot\"]",
+        );
+    let error = parse_model("case.toml", &source_in_space, &[])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("coordinate `f2_floor` has the name of constraint `floor`'s column"),
+        "{error}"
+    );
     // Frictionless (a coefficient of 0): no such column, so the name is free.
     let frictionless = Override {
         name: "mu".to_string(),
@@ -631,6 +646,15 @@ t_end = 3.0
                 a.t,
                 b.t
             );
+            // The tangential impulse is the planar one, along the line (cos φ, sin φ).
+            if a.kind == EventKind::Impact {
+                let planar = b.tangential[0];
+                let along = [a.tangential[0], a.tangential_across[0]];
+                let expected = [planar * 0.75_f64.sqrt(), planar * 0.5];
+                let size = 1e-9 * (1.0 + planar.abs());
+                assert!((along[0] - expected[0]).abs() < size, "μ = {mu}: {a:?}");
+                assert!((along[1] - expected[1]).abs() < size, "μ = {mu}: {a:?}");
+            }
         }
         let (v, w) = (&spatial.final_state.q_dot, &plane.final_state.q_dot);
         assert!(

@@ -114,6 +114,7 @@ struct Recorder {
     h: Vec<f64>,
     lambda: Vec<f64>,
     friction: Vec<f64>,
+    friction_across: Vec<f64>,
     energy: Vec<f64>,
     /// Per row, the energy balance's terms in [`BALANCE`]'s order.
     work: Vec<f64>,
@@ -132,6 +133,7 @@ impl Recorder {
             h: Vec::new(),
             lambda: Vec::new(),
             friction: Vec::new(),
+            friction_across: Vec::new(),
             energy: Vec::new(),
             work: Vec::new(),
             mode: Vec::new(),
@@ -149,6 +151,7 @@ impl Observer for Recorder {
         self.h.extend_from_slice(s.h);
         self.lambda.extend_from_slice(s.lambda);
         self.friction.extend_from_slice(s.friction);
+        self.friction_across.extend_from_slice(s.friction_across);
         self.energy.push(s.energy);
         let w = &s.work;
         self.work
@@ -193,13 +196,17 @@ pub struct Run {
     /// Each constraint's multiplier `λ` (trajectory.csv's `lambda_<name>`), rows × constraints.
     #[pyo3(get)]
     multipliers: Py<PyAny>,
-    /// The tangential force of each constraint with friction (trajectory.csv's `f_<name>`),
-    /// rows × `friction_constraints`.
+    /// The tangential forces (trajectory.csv's `f_<name>`, and `f2_<name>` for the second
+    /// component of a contact in space), rows × `friction_columns`.
     #[pyo3(get)]
     friction: Py<PyAny>,
-    /// The names of the constraints with friction (the columns of `friction`).
+    /// The names of the constraints with friction.
     #[pyo3(get)]
     friction_constraints: Vec<String>,
+    /// The names of the columns of `friction`: `f_<name>` for each constraint with friction,
+    /// followed by `f2_<name>` for a contact in space.
+    #[pyo3(get)]
+    friction_columns: Vec<String>,
     /// The energy of each row.
     #[pyo3(get)]
     energy: Py<PyAny>,
@@ -331,10 +338,16 @@ fn record(
         .collect();
     let mode = PyList::new(py, recorder.mode.iter().map(|&i| &labels[i as usize]))?;
     let frictional = zenosim_runs::summary::friction_indices(&file.model);
+    let columns = zenosim_runs::summary::friction_columns(&file.model);
     let friction: Vec<f64> = recorder
         .friction
         .chunks(m.max(1))
-        .flat_map(|row| frictional.iter().map(|&i| row[i]))
+        .zip(recorder.friction_across.chunks(m.max(1)))
+        .flat_map(|(first, second)| {
+            columns
+                .iter()
+                .map(move |&(i, k)| if k == 0 { first[i] } else { second[i] })
+        })
         .collect();
     let balance = PyDict::new(py);
     for (k, name) in BALANCE.iter().enumerate() {
@@ -368,8 +381,12 @@ fn record(
         q_dot: matrix(recorder.q_dot, n)?,
         h: matrix(recorder.h, m)?,
         multipliers: matrix(recorder.lambda, m)?,
-        friction: matrix(friction, frictional.len())?,
+        friction: matrix(friction, columns.len())?,
         friction_constraints: frictional.iter().map(|&i| constraints[i].clone()).collect(),
+        friction_columns: columns
+            .iter()
+            .map(|&(i, k)| zenosim_runs::summary::force_column(&constraints[i], k))
+            .collect(),
         energy: PyArray1::from_vec(py, recorder.energy).into_any().unbind(),
         balance: balance.into_any().unbind(),
         energy_balance: json_value(py, &summary.energy_balance)?,

@@ -32,9 +32,17 @@ def assert_same_as_cli(run: zenosim.Run, cli) -> None:
     )
     friction = summary.get("friction", [])
     assert run.friction_constraints == friction
+    # A contact in space has a second column, f2_<name>, after its f_<name>.
+    in_space = summary.get("friction_in_space", [])
+    columns = [
+        name
+        for c in friction
+        for name in ([f"f_{c}", f"f2_{c}"] if c in in_space else [f"f_{c}"])
+    ]
+    assert run.friction_columns == columns
     if friction:
-        np.testing.assert_array_equal(run.friction, cli.numbers([f"f_{c}" for c in friction]))
-    assert run.friction.shape == (len(run.t), len(friction))
+        np.testing.assert_array_equal(run.friction, cli.numbers(columns))
+    assert run.friction.shape == (len(run.t), len(columns))
     work = ["work_forces", "work_drive", "work_constraints", "impact_loss"]
     if "work_forces" in cli.columns:
         for name in work:

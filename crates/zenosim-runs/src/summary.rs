@@ -41,6 +41,11 @@ pub struct Summary<'a> {
     /// `f_<name>` for each).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub friction: Vec<&'a str>,
+    /// Those of them whose contact is in space (two slip components, docs/friction.md), in
+    /// the same order; left out where there are none (`trajectory.csv` has a second column
+    /// `f2_<name>` for each, after its `f_<name>`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub friction_in_space: Vec<&'a str>,
     /// The constraints' restitutions, by name.
     pub restitutions: Pairs<'a>,
     /// The constraints' functions `h`, as the model file writes them, by name (the plots
@@ -386,6 +391,10 @@ pub struct EventJson<'a> {
     /// (along increasing slip; docs/friction.md); absent otherwise.
     #[serde(skip_serializing_if = "<[f64]>::is_empty")]
     pub tangential_impulses: &'a [f64],
+    /// For an impact on a contact in space, the second component of each tangential impulse
+    /// (the first is in `tangential_impulses`); absent otherwise.
+    #[serde(skip_serializing_if = "<[f64]>::is_empty")]
+    pub tangential_impulses_across: &'a [f64],
     /// The state just before.
     pub before: StateJson<'a>,
     /// The state just after (without `q` where it is `before`'s).
@@ -483,6 +492,11 @@ impl<'a> Record<'a> {
                 .into_iter()
                 .map(name)
                 .collect(),
+            friction_in_space: friction_columns(&file.model)
+                .into_iter()
+                .filter(|&(_, component)| component == 1)
+                .map(|(i, _)| name(i))
+                .collect(),
             restitutions: Pairs(
                 file.model
                     .constraints()
@@ -531,6 +545,7 @@ impl<'a> Record<'a> {
                 contacts: active_names(e.contacts, names),
                 impulses: &e.impulses,
                 tangential_impulses: &e.tangential,
+                tangential_impulses_across: &e.tangential_across,
                 before: (&e.before).into(),
                 after: AfterJson::of(&e.before, &e.after),
             }),
@@ -562,9 +577,29 @@ pub fn constraint_names(file: &ModelFile) -> Vec<String> {
         .collect()
 }
 
+/// The name of the column of component `component` of constraint `name`'s tangential force in
+/// `trajectory.csv` (and Python's `Run.friction_columns`): `f_<name>`, and for the second
+/// component of a contact in space `f2_<name>`.
+pub fn force_column(name: &str, component: usize) -> String {
+    if component == 0 {
+        format!("f_{name}")
+    } else {
+        format!("f2_{name}")
+    }
+}
+
+/// The columns of tangential force of `trajectory.csv`, `(constraint index, component)`: for
+/// each constraint with friction in the model's order ([`friction_indices`]), its first
+/// component (`f_<name>`) and, for a contact in space, its second (`f2_<name>`).
+pub fn friction_columns<L: HybridLagrangian>(model: &L) -> Vec<(usize, usize)> {
+    friction_indices(model)
+        .into_iter()
+        .flat_map(|i| (0..model.slip_components(i).clamp(1, 2)).map(move |k| (i, k)))
+        .collect()
+}
+
 /// The indices of `model`'s constraints with friction ([`zenosim::Constraint::has_friction`]),
-/// in order: those with a column `f_<name>` in `trajectory.csv` and listed in `summary.json`'s
-/// `friction`.
+/// in order: those listed in `summary.json`'s `friction`.
 pub fn friction_indices<L: HybridLagrangian>(model: &L) -> Vec<usize> {
     model
         .constraints()

@@ -35,6 +35,10 @@ pub struct Record {
     /// (absent where there are none, and from summaries of older versions).
     #[serde(default)]
     pub friction: Vec<String>,
+    /// Those of them whose contact is in space: a second column `f2_<name>` each, after its
+    /// `f_<name>` (absent where there are none).
+    #[serde(default)]
+    pub friction_in_space: Vec<String>,
     /// The constraints' formulas `h`, by name (absent from summaries of older versions).
     #[serde(default)]
     pub h: HashMap<String, String>,
@@ -211,6 +215,19 @@ pub struct TrajectoryRecord {
 }
 
 impl Record {
+    /// The trajectory's columns of tangential force, `(constraint, component)` in order: each
+    /// constraint with friction's first component, and a contact in space's second after it
+    /// ([`crate::trajectory::force_column`]).
+    pub fn force_columns(&self) -> Vec<(&str, usize)> {
+        self.friction
+            .iter()
+            .flat_map(|name| {
+                let two = self.friction_in_space.contains(name);
+                (0..1 + usize::from(two)).map(move |k| (name.as_str(), k))
+            })
+            .collect()
+    }
+
     /// Reads `path`; errors name the file and the line and column.
     pub fn read(path: &Path) -> anyhow::Result<Self> {
         let display = path.display();
@@ -273,6 +290,16 @@ impl Record {
         if let Some(name) = self.friction.iter().find(|f| !self.constraints.contains(f)) {
             return Err(format!(
                 "`friction` lists {}, which is not one of the constraints",
+                quote(name)
+            ));
+        }
+        if let Some(name) = self
+            .friction_in_space
+            .iter()
+            .find(|f| !self.friction.contains(f))
+        {
+            return Err(format!(
+                "`friction_in_space` lists {}, which is not one of those with friction",
                 quote(name)
             ));
         }

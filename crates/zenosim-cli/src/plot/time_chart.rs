@@ -77,8 +77,9 @@ impl Quantity {
             Quantity::Energy => "energy".to_string(),
             Quantity::Friction => {
                 let k = s - scene.trajectory.friction.start;
-                let name = scene.record.friction.get(k).map_or("?", String::as_str);
-                format!("f_{name}")
+                let columns = scene.record.force_columns();
+                let (name, component) = columns.get(k).copied().unwrap_or(("?", 0));
+                crate::trajectory::force_column(name, component)
             }
             _ => scene.name(s).to_string(),
         }

@@ -84,7 +84,7 @@ pub fn read_with(
     let header = trajectory::header(
         record.columns(),
         &record.constraints,
-        &record.friction,
+        &record.force_columns(),
         true,
     );
     let header_bytes: usize = header.iter().map(|name| name.len() + 1).sum();
@@ -112,10 +112,10 @@ pub fn read_with(
     };
     let energy = names.len() - 1 - works;
     // The columns f_<constraint>, just before the energy.
-    let forces = energy - record.friction.len();
+    let forces = energy - record.force_columns().len();
     // The series: q, q̇, the energy, E(0) + work − impact loss, and the tangential forces.
     let first = 2 * n + 1 + usize::from(balance);
-    let friction = first..first + record.friction.len();
+    let friction = first..first + record.force_columns().len();
     let series = friction.end;
     let (t_start, t_end) = record.time_span();
     let columns = TIME_COLUMNS.min(TIME_CELLS / series).max(1);
@@ -271,7 +271,7 @@ fn check_header(header: &csv::ByteRecord, record: &Record) -> Result<(Vec<String
         let expected = trajectory::header(
             record.columns(),
             &record.constraints,
-            &record.friction,
+            &record.force_columns(),
             balance,
         );
         if names == expected {
@@ -281,7 +281,7 @@ fn check_header(header: &csv::ByteRecord, record: &Record) -> Result<(Vec<String
     let expected = trajectory::header(
         record.columns(),
         &record.constraints,
-        &record.friction,
+        &record.force_columns(),
         false,
     );
     let friction = match record.friction.len() {

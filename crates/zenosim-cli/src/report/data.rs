@@ -152,7 +152,10 @@ fn series(record: &Record, trajectory: &Trajectory) -> Vec<Series> {
     let energy = ["energy".to_string()]
         .into_iter()
         .chain(trajectory.balance.then(|| crate::plot::BALANCE.to_string()));
-    let forces = record.friction.iter().map(|c| format!("f_{c}"));
+    let forces = record
+        .force_columns()
+        .into_iter()
+        .map(|(c, k)| crate::trajectory::force_column(c, k));
     let names = record.columns().cloned().chain(energy).chain(forces);
     names
         .zip(&trajectory.lines)

@@ -109,11 +109,16 @@ class Run:
         force is ``−Aᵀλ``, 0 where the constraint is not held), shape (rows, constraints)."""
     @property
     def friction(self) -> npt.NDArray[np.float64]:
-        """The tangential force ``fₜ`` of each constraint with friction (trajectory.csv's
-        ``f_<name>``, along increasing slip), shape (rows, friction_constraints)."""
+        """The tangential forces ``fₜ`` of the constraints with friction (trajectory.csv's
+        ``f_<name>``, along increasing slip, and ``f2_<name>`` for the second component of a
+        contact in space), shape (rows, len(friction_columns))."""
     @property
     def friction_constraints(self) -> list[str]:
-        """The names of the constraints with friction (the columns of ``friction``)."""
+        """The names of the constraints with friction."""
+    @property
+    def friction_columns(self) -> list[str]:
+        """The names of the columns of ``friction``: ``f_<name>`` for each constraint with
+        friction, followed by ``f2_<name>`` for a contact in space."""
     @property
     def energy(self) -> npt.NDArray[np.float64]:
         """The energy ``q̇ᵀ ∂L/∂q̇ − L`` of each row, shape (rows,)."""
