@@ -702,7 +702,8 @@ def run_zenosim(zenosim, model, tol, args, workdir, t_end=None):
     with open(summary_path) as f:
         summary = json.load(f)
     return {"status": summary.get("status", "unknown"), "reason": summary.get("message"),
-            "exit_status": rc, "command": " ".join(cmd), "summary": summary}
+            "exit_status": rc, "command": " ".join(cmd), "summary": summary,
+            "out_dir": out_dir}
 
 
 def bench_zenosim(zenosim, model, args):

@@ -12,12 +12,26 @@ A spec:
             "functions": {"mass", "FGyr", "jacobianFGyrq", "jacobianFGyrqDot", "FInt",
                           "jacobianFIntq", "jacobianFIntqDot"} (those the example uses),
             "fext": [..] (optional)},
+            ("class": "LagrangianDS" makes it a LagrangianDS with that constant mass matrix,
+             no K),
            {"kind": "driven", ... as "linear", "boundary": {"dofs": [..], "plugin": KEY,
-            "function": NAME}}  (a body whose velocity is prescribed: not in the file) ],
+            "function": NAME}}  (a body whose velocity is prescribed: not in the file),
+           {"kind": "first_order", "coords": [file coordinates], "positions": [index in x or
+            None per coordinate], "velocities": [the same], "x0", "A", "M" (optional),
+            "b": {"plugin": KEY, "function": NAME} (optional)}  (x' = A x + b(t) + r, or
+            M x' = ..., a FirstOrderLinearTIDS or, with M or b, a FirstOrderLinearDS; a
+            coordinate without an index is held at 0 by a contact the file has and Siconos
+            does not) ],
    "interactions": [ {"name", "e", "ds": [indices],
+                      "friction": {"mu", "et"} (optional: NewtonImpactFrictionNSL(e, et, mu, 2),
+                                   and the relation has two rows, normal then tangential),
+                      "relay": [lb, ub] (instead of e: RelayNSL(1, lb, ub) on a first-order DS),
                       "relation": {"kind": "linear", "C": [[..]], "offset": [..]}
                                or {"kind": "scleronomous", "plugin": KEY, "h", "G0",
-                                   "dotG0" (optional)}} ],
+                                   "dotG0" (optional)}
+                               or {"kind": "first_order_linear", "C": [[..]], "B": [[..]]}} ],
+   "stick_velocity": a slip speed below which a held contact sticks (time-stepping: the
+                     friction states of each step, from which its stick/slip transitions),
    "plugins": {KEY: {"source": file under bench/siconos/plugins, "defines": {NAME: number}}}}
 
 Every number of a spec comes from the model file; the plugins' parameters are compiled in as
@@ -27,7 +41,11 @@ A scheme:
   {"kind": "ED", "h": step of the TimeDiscretisation (its time events), "tol": rtol = atol of
    LsodarOSI, "toled": TOL_ED or None}
   {"kind": "TS", "osi": "MoreauJeanOSI", "theta", "gamma" (optional), "h",
-   "newton_tol" (optional), "newton_max_iter" (optional)}
+   "newton_tol" (optional), "newton_max_iter" (optional),
+   "problem": "LCP" (default), "FrictionContact" or "Relay", "solver" (a numerics solver id
+   or its name in siconos.numerics, optional), "solver_tol", "solver_max_iter" (optional),
+   "newton_linear" (optional: setNewtonOptions(SICONOS_TS_LINEAR))}
+  {"kind": "TS", "osi": "EulerMoreauOSI", "theta", "h", "problem": "Relay", ...}  (first order)
 """
 
 import ctypes
@@ -85,6 +103,16 @@ class PluginEval:
     def _arr(xs):
         return (ctypes.c_double * max(1, len(xs)))(*xs)
 
+    def jacobian(self, key, name, q, rows):
+        """A relation's G0 with `rows` rows (Siconos passes the size of y), row by row."""
+        f = getattr(self.libs[key], name)
+        n = ctypes.c_uint
+        size = rows * len(q)
+        out = (ctypes.c_double * size)()
+        z = (ctypes.c_double * 1)()
+        f(n(len(q)), self._arr(q), n(rows), out, n(0), z)
+        return [[out[r + rows * j] for j in range(len(q))] for r in range(rows)]
+
     def call(self, key, name, kind, q=(), v=(), t=0.0, out_size=1):
         f = getattr(self.libs[key], name)
         n = ctypes.c_uint
@@ -103,6 +131,8 @@ class PluginEval:
             f(n(len(q)), self._arr(q), n(len(v)), self._arr(v), out, n(0), z)
         elif kind == "velocity":
             f(ctypes.c_double(t), n(out_size), out)
+        elif kind == "b":  # a first-order DS's b(t): (t, n, b, nz, z)
+            f(ctypes.c_double(t), n(out_size), out, n(0), z)
         else:
             raise ValueError(kind)
         return list(out)
@@ -139,17 +169,26 @@ def evaluate(spec, plugins, t, qs, vs):
                 force = [a - b for a, b in zip(force, g)]
         out["mass"].append(mass)
         out["force"].append(force)
+    out["tangent"] = {}
     for it in spec["interactions"]:
+        if it["relation"]["kind"] == "first_order_linear":
+            continue  # no h: the example's own check (check_spec)
         qcat = [x for i in it["ds"] for x in qs[i]]
         r = it["relation"]
+        rows = 2 if it.get("friction") else 1
         if r["kind"] == "linear":
             h = sum(a * b for a, b in zip(r["C"][0], qcat)) + (r.get("offset") or [0.0])[0]
-            jac = list(r["C"][0])
+            jac = [list(row) for row in r["C"][:rows]]
         else:
             h = plugins.call(r["plugin"], r["h"], "h", q=qcat, out_size=1)[0]
-            jac = plugins.call(r["plugin"], r["G0"], "h", q=qcat, out_size=len(qcat))
+            if rows == 1:
+                jac = [plugins.call(r["plugin"], r["G0"], "h", q=qcat, out_size=len(qcat))]
+            else:
+                jac = plugins.jacobian(r["plugin"], r["G0"], qcat, rows)
         out["h"][it["name"]] = h
-        out["jac"][it["name"]] = jac
+        out["jac"][it["name"]] = jac[0]
+        if rows == 2:
+            out["tangent"][it["name"]] = jac[1]
     return out
 
 
@@ -158,13 +197,31 @@ def evaluate(spec, plugins, t, qs, vs):
 
 def build(sk, spec, scheme, libs):
     import numpy as np
+    import siconos.numerics as sn
     t0, t_end = spec.get("t0", 0.0), spec["t_end"]
     nsds = sk.NonSmoothDynamicalSystem(t0, t_end)
     dss = []
     for d in spec["ds"]:
+        if d["kind"] == "first_order":
+            x0 = np.array(d["x0"], dtype=float)
+            A = np.array(d["A"], dtype=float)
+            if d.get("M") is None and d.get("b") is None:
+                ds = sk.FirstOrderLinearTIDS(x0, A)
+            else:
+                ds = sk.FirstOrderLinearDS(x0, A)
+                if d.get("M") is not None:
+                    ds.setMPtr(np.array(d["M"], dtype=float))
+                if d.get("b") is not None:
+                    ds.setComputebFunction(libs[d["b"]["plugin"]], d["b"]["function"])
+            nsds.insertDynamicalSystem(ds)
+            dss.append(ds)
+            continue
         q0 = np.array(d["q0"], dtype=float)
         v0 = np.array(d["v0"], dtype=float)
-        if d["kind"] in ("linear", "driven"):
+        if d["kind"] == "linear" and d.get("class") == "LagrangianDS":
+            # a LagrangianDS with a constant mass matrix, as an example may write it
+            ds = sk.LagrangianDS(q0, v0, np.array(d["mass"], dtype=float))
+        elif d["kind"] in ("linear", "driven"):
             ds = sk.LagrangianLinearTIDS(q0, v0, np.array(d["mass"], dtype=float))
             if d.get("K") is not None:
                 ds.setKPtr(np.array(d["K"], dtype=float))
@@ -195,6 +252,9 @@ def build(sk, spec, scheme, libs):
         if r["kind"] == "linear":
             rel = sk.LagrangianLinearTIR(np.array(r["C"], dtype=float),
                                          np.array(r.get("offset") or [0.0], dtype=float))
+        elif r["kind"] == "first_order_linear":
+            rel = sk.FirstOrderLinearR(np.array(r["C"], dtype=float),
+                                       np.array(r["B"], dtype=float))
         else:
             lib = libs[r["plugin"]]
             if r.get("dotG0"):
@@ -202,7 +262,14 @@ def build(sk, spec, scheme, libs):
                                                  f"{lib}:{r['dotG0']}")
             else:
                 rel = sk.LagrangianScleronomousR(f"{lib}:{r['h']}", f"{lib}:{r['G0']}")
-        inter = sk.Interaction(sk.NewtonImpactNSL(it["e"]), rel)
+        if it.get("relay") is not None:
+            law = sk.RelayNSL(1, float(it["relay"][0]), float(it["relay"][1]))
+        elif it.get("friction") is not None:
+            fr = it["friction"]
+            law = sk.NewtonImpactFrictionNSL(it["e"], fr.get("et", 0.0), fr["mu"], 2)
+        else:
+            law = sk.NewtonImpactNSL(it["e"])
+        inter = sk.Interaction(law, rel)
         if len(it["ds"]) == 1:
             nsds.link(inter, dss[it["ds"][0]])
         else:
@@ -219,13 +286,32 @@ def build(sk, spec, scheme, libs):
         if scheme.get("toled") is not None:
             sim.setToleranceED(scheme["toled"])
     elif scheme["kind"] == "TS":
-        if scheme["osi"] != "MoreauJeanOSI":
+        if scheme["osi"] == "EulerMoreauOSI":
+            osi = sk.EulerMoreauOSI(scheme["theta"])
+        elif scheme["osi"] != "MoreauJeanOSI":
             raise ValueError(f"{scheme['osi']} is not in Siconos's Python bindings")
-        if scheme.get("gamma") is not None:
+        elif scheme.get("gamma") is not None:
             osi = sk.MoreauJeanOSI(scheme["theta"], scheme["gamma"])
         else:
             osi = sk.MoreauJeanOSI(scheme["theta"])
-        sim = sk.TimeStepping(nsds, td, osi, sk.LCP())
+        problem = scheme.get("problem", "LCP")
+        if problem == "FrictionContact":
+            osnspb = sk.FrictionContact(2)
+        elif problem == "Relay":
+            osnspb = sk.Relay()
+        else:
+            osnspb = sk.LCP()
+        if scheme.get("solver") is not None:
+            solver = scheme["solver"]
+            osnspb.setSolverId(getattr(sn, solver) if isinstance(solver, str) else solver)
+        options = osnspb.numericsSolverOptions()
+        if scheme.get("solver_tol") is not None:
+            options.dparam[sn.SICONOS_DPARAM_TOL] = scheme["solver_tol"]
+        if scheme.get("solver_max_iter") is not None:
+            options.iparam[sn.SICONOS_IPARAM_MAX_ITER] = scheme["solver_max_iter"]
+        sim = sk.TimeStepping(nsds, td, osi, osnspb)
+        if scheme.get("newton_linear"):
+            sim.setNewtonOptions(sk.SICONOS_TS_LINEAR)
         if scheme.get("newton_tol") is not None:
             sim.setNewtonTolerance(scheme["newton_tol"])
         if scheme.get("newton_max_iter") is not None:
@@ -235,8 +321,51 @@ def build(sk, spec, scheme, libs):
     return dss, inters, sim
 
 
-def _state(np, dss, which):
-    return [list(np.array(getattr(ds, which)())) for ds in dss]
+def _state(np, dss, which, spec=None):
+    """Per DS its positions (which = "q") or velocities ("velocity"); a first-order DS's are
+    read off its state x through the spec's "positions" and "velocities" (a coordinate
+    without an index is held at 0)."""
+    out = []
+    for k, ds in enumerate(dss):
+        d = (spec or {}).get("ds", [{}] * len(dss))[k]
+        if d.get("kind") == "first_order":
+            x = np.array(ds.x())
+            idx = d["positions"] if which == "q" else d["velocities"]
+            out.append([float(x[i]) if i is not None else 0.0 for i in idx])
+        else:
+            out.append(list(np.array(getattr(ds, which)())))
+    return out
+
+
+def _impulses(inters, spec):
+    """The normal impulse of each interaction in the step (0 for a relay, which has none)."""
+    relay = {it["name"] for it in spec["interactions"] if it.get("relay") is not None}
+    return {name: (0.0 if name in relay else float(it.lambda_(1)[0])) for name, it in inters}
+
+
+def _friction_states(np, dss, inters, spec):
+    """The friction state of each frictional interaction at the end of a step: "open" (no
+    normal impulse), "stick" (a slip speed at most spec["stick_velocity"]), "slip+" or
+    "slip-" (the sign of Siconos's tangential velocity). A relay (a first-order DS's Coulomb
+    law with a given normal force) is always held; its slip is its output C x."""
+    eps = spec.get("stick_velocity", 0.0)
+    out = {}
+    specs = {it["name"]: it for it in spec["interactions"]}
+    for name, inter in inters:
+        it = specs[name]
+        if it.get("relay") is not None:
+            k = it["ds"][0]
+            x = np.array(dss[k].x())
+            u = float(sum(c * xi for c, xi in zip(it["relation"]["C"][0], x)))
+        elif it.get("friction") is not None:
+            if not float(inter.lambda_(1)[0]) > 0:
+                out[name] = "open"
+                continue
+            u = float(inter.y(1)[1])
+        else:
+            continue
+        out[name] = "stick" if abs(u) <= eps else ("slip+" if u > 0 else "slip-")
+    return out
 
 
 def run_once(sk, spec, scheme, libs, progress_path=None, keep=True):
@@ -247,7 +376,7 @@ def run_once(sk, spec, scheme, libs, progress_path=None, keep=True):
     start = time.perf_counter()
     dss, inters, sim = build(sk, spec, scheme, libs)
     status, reason, stage = "finished", None, "initialize"
-    events, n_ns, n_steps = [], 0, 0
+    events, n_ns, n_steps, transitions = [], 0, 0, []
     last_progress = start - 1.0
     truncated = False
     try:
@@ -285,22 +414,40 @@ def run_once(sk, spec, scheme, libs, progress_path=None, keep=True):
             if status == "finished" and sim.startingTime() < t_end * (1 - 1e-12):
                 status, reason = "failed", "no event left before t_end"
         else:
+            tracked = any(it.get("friction") is not None or it.get("relay") is not None
+                          for it in spec["interactions"])
+            # the friction states before the first step are not known (a contact at rest
+            # at t0 sticks or slips as the first step decides): no event at the first step
+            grips = {}
             while sim.hasNextEvent():
-                q_before = _state(np, dss, "q") if keep else None
-                v_before = _state(np, dss, "velocity") if keep else None
+                q_before = _state(np, dss, "q", spec) if keep else None
+                v_before = _state(np, dss, "velocity", spec) if keep else None
                 t_before = sim.startingTime()
                 stage = "computeOneStep"
                 sim.computeOneStep()
                 n_steps += 1
+                if keep and tracked:
+                    states = _friction_states(np, dss, inters, spec)
+                    for name, st in states.items():
+                        before = grips.get(name)
+                        kind = None
+                        if before not in (None, "open") and st != "open" and st != before:
+                            kind = ("stick" if st == "stick" else "slip" if before == "stick"
+                                    else "reversal")
+                        if kind and len(transitions) < KEEP_EVENTS:
+                            transitions.append({"t": sim.nextTime(), "contact": name,
+                                                "kind": kind, "from": before, "to": st})
+                    grips = states
                 if keep:
-                    imp = {name: float(it.lambda_(1)[0]) for name, it in inters}
+                    imp = _impulses(inters, spec)
                     if any(x > 0 for x in imp.values()):
                         if len(events) < KEEP_EVENTS:
                             events.append({"k": n_steps, "t": sim.nextTime(),
                                            "t_start": t_before,
-                                           "q": q_before, "q_after": _state(np, dss, "q"),
+                                           "q": q_before,
+                                           "q_after": _state(np, dss, "q", spec),
                                            "v_before": v_before,
-                                           "v_after": _state(np, dss, "velocity"),
+                                           "v_after": _state(np, dss, "velocity", spec),
                                            "impulse": imp})
                         else:
                             truncated = True
@@ -314,12 +461,15 @@ def run_once(sk, spec, scheme, libs, progress_path=None, keep=True):
     except Exception as ex:  # Siconos throws std::exception with its text on stdout
         status, reason = "failed", f"{type(ex).__name__} '{ex}' in {stage}"
     wall = time.perf_counter() - start
+    relay = {it["name"] for it in spec["interactions"] if it.get("relay") is not None}
     return {
         "status": status, "reason": reason, "t_reached": sim.startingTime(),
         "ns_events": n_ns, "steps": n_steps, "events": events, "events_truncated": truncated,
-        "final": {"t": sim.startingTime(), "q": _state(np, dss, "q"),
-                  "q_dot": _state(np, dss, "velocity"),
-                  "lambda": {name: [float(x) for x in np.array(it.lambda_(1))]
+        "friction_transitions": transitions,
+        "final": {"t": sim.startingTime(), "q": _state(np, dss, "q", spec),
+                  "q_dot": _state(np, dss, "velocity", spec),
+                  "lambda": {name: [float(x) for x in np.array(it.lambda_(0 if name in relay
+                                                                        else 1))]
                              for name, it in inters}},
         "newton_iterations": (sim.getNewtonCumulativeNbIterations()
                               if scheme["kind"] == "TS" else None),

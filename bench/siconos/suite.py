@@ -20,7 +20,10 @@ Per example (one module under examples/, see examples/__init__.py):
     and with TOL_ED = tol; time-stepping examples: Siconos at the example's step and others;
     zenosim at tolerances 1e-6 ... 1e-12;
   * the errors, computed the same way for both tools: impact times (per contact, the k-th
-    impact against the reference's k-th), Zeno times, the final state; and the wall times.
+    impact against the reference's k-th), Zeno times, with friction the stick, slip and
+    reversal times (per contact and kind), the final state; and the wall times. Where a
+    reference also computes the model under another law (its "alternatives"), the same
+    errors against it.
 Writes results.md (the tables, with the peer models' section after them) and results.json.
 """
 
@@ -93,8 +96,8 @@ def load_model(path):
         "coordinates": coords, "params": params,
         "q0": [value(init.get(c, 0.0)) for c in coords],
         "v0": [value(init.get(c + "_dot", 0.0)) for c in coords],
-        "constraints": [{"name": c["name"], "h": peer.Formula(c["h"]),
-                         "e": value(c.get("restitution", 0.0))}
+        "constraints": [dict({"name": c["name"], "h": peer.Formula(c["h"]),
+                              "e": value(c.get("restitution", 0.0))}, **friction_of(c, value))
                         for c in doc.get("constraint", [])],
         "lagrangian": peer.Formula(doc["lagrangian"]),
         "forces": {k: peer.Formula(v) for k, v in forces.items()},
@@ -102,6 +105,20 @@ def load_model(path):
         "t_end": float(sim.get("t_end", 10.0)),
         "header": header_comment(path),
     }
+
+
+def friction_of(c, value):
+    """A constraint's friction (docs/friction.md): its coefficients and its slip formula, or
+    nothing for a frictionless one."""
+    if "friction" not in c:
+        return {}
+    f = c["friction"]
+    if isinstance(f, dict):
+        mu_s, mu_k = value(f["static"]), value(f["kinetic"])
+    else:
+        mu_s = mu_k = value(f)
+    (slip,) = c["slip"]
+    return {"mu_static": mu_s, "mu_kinetic": mu_k, "slip": peer.Formula(slip)}
 
 
 def header_comment(path):
@@ -126,6 +143,27 @@ def env(model, t, q, v):
 def file_h(model, t, q):
     e = env(model, t, q, [0.0] * len(q))
     return {c["name"]: c["h"](e) for c in model["constraints"]}
+
+
+def file_slip(model, t, q, v):
+    """The slip of every constraint with friction at (t, q, v)."""
+    e = env(model, t, q, v)
+    return {c["name"]: c["slip"](e) for c in model["constraints"] if c.get("slip")}
+
+
+def file_slip_row(model, t, q):
+    """Per constraint with friction, its slip's row S = ds/dv and its part s0 = s(t, q, 0)
+    (the slip is affine in the velocities: S_j = s(e_j) - s(0), exact)."""
+    n = len(q)
+    zero = file_slip(model, t, q, [0.0] * n)
+    rows = {k: [] for k in zero}
+    for j in range(n):
+        v = [0.0] * n
+        v[j] = 1.0
+        sj = file_slip(model, t, q, v)
+        for k in rows:
+            rows[k].append(sj[k] - zero[k])
+    return rows, zero
 
 
 def file_jac(model, t, q, step=1e-6):
@@ -227,6 +265,17 @@ def check_spec(model, spec, plugins, example, states=6):
     if names != {c["name"] for c in model["constraints"]}:
         raise ValueError(f"{model['name']}: the Siconos interactions {sorted(names)} are not the "
                          f"file's constraints {sorted(c['name'] for c in model['constraints'])}")
+    laws = check_laws(model, spec)
+    if hasattr(example, "check_spec"):
+        # a model Siconos writes otherwise (a first-order system): the example's own check
+        worst = dict(laws, **example.check_spec(model, spec, plugins))
+        bad = {k: v for k, v in worst.items() if v > 1e-6}
+        if bad:
+            raise ValueError(f"{model['name']}: the Siconos model does not match the file: {bad}")
+        return worst
+    if any(c.get("slip") for c in model["constraints"]):
+        worst["slip_row"] = 0.0
+    worst.update(laws)
     scale_q = [max(abs(x), 1e-3) for x in model["q0"]]
     scales = {"mass": 0.0, "force": 0.0}  # mass and force: relative to their largest entry
     for s in range(states):
@@ -271,15 +320,55 @@ def check_spec(model, spec, plugins, example, states=6):
             jscale = max(max(abs(x) for x in jac[name]), 1e-300)
             worst["dh_dq"] = max(worst["dh_dq"],
                                  max(abs(a - b) for a, b in zip(jac[name], sic)) / jscale)
+            if name in ev["tangent"]:
+                # Siconos's tangential row against the file's slip row S (up to its sign,
+                # which Coulomb's isotropic law does not see); the slip must have no part
+                # s0 (no moving surface in these relations)
+                rows, s0 = file_slip_row(model, t, q)
+                tan = [0.0] * n
+                for c, val in zip(cols, ev["tangent"][name]):
+                    if c in model["coordinates"]:
+                        tan[model["coordinates"].index(c)] = val
+                srow = rows[name]
+                sscale = max(max(abs(x) for x in srow), 1e-300)
+                diff = min(max(abs(a - b) for a, b in zip(srow, tan)),
+                           max(abs(a + b) for a, b in zip(srow, tan)))
+                worst["slip_row"] = max(worst["slip_row"], diff / sscale,
+                                        abs(s0[name]) / sscale)
     for k in ("mass", "force"):
         worst[k] = worst[k] / scales[k] if scales[k] > 0 else worst[k]
     extra = example.check_extra(model, spec, plugins) if hasattr(example, "check_extra") else {}
     worst.update(extra)
-    limits = {"mass": 1e-6, "force": 1e-5, "h": 1e-12, "dh_dq": 1e-6}
+    limits = {"mass": 1e-6, "force": 1e-5, "h": 1e-12, "dh_dq": 1e-6, "slip_row": 1e-12,
+              "laws": 1e-15}
     bad = {k: v for k, v in worst.items() if v > limits.get(k, 1e-6)}
     if bad:
         raise ValueError(f"{model['name']}: the Siconos model does not match the file: {bad}")
     return worst
+
+
+def check_laws(model, spec):
+    """Each interaction's law against its constraint's: restitution and Coulomb's coefficient
+    (NewtonImpactFrictionNSL where the file has friction, with one coefficient: Siconos has no
+    static one; NewtonImpactNSL where it has none; a relay has no restitution, its bound is
+    the example's check). The largest difference, relative."""
+    worst = 0.0
+    file = {c["name"]: c for c in model["constraints"]}
+    for it in spec["interactions"]:
+        c = file[it["name"]]
+        if it.get("relay") is not None:
+            continue
+        worst = max(worst, abs(it["e"] - c["e"]))
+        fr = it.get("friction")
+        if (fr is None) != (c.get("slip") is None):
+            raise ValueError(f"{model['name']}: {it['name']} has friction in one model only")
+        if fr is not None:
+            if c["mu_static"] != c["mu_kinetic"]:
+                raise ValueError(f"{model['name']}: {it['name']}: Siconos's Coulomb law has one "
+                                 "coefficient")
+            worst = max(worst, abs(fr["mu"] - c["mu_kinetic"]) / max(c["mu_kinetic"], 1e-300),
+                        abs(fr.get("et", 0.0)))
+    return {"laws": worst}
 
 
 # --------------------------------------------------------------------------------------------
@@ -369,15 +458,60 @@ def per_contact(items, key="contacts"):
     return out
 
 
+def match_friction(tool, reference):
+    """Per contact and kind (stick, slip, reversal), the k-th friction event of the tool
+    against the k-th of the reference: the matched pairs and how many of the tool's had none."""
+    def grouped(events):
+        out = {}
+        for ev in events:
+            for c in ev.get("constraints") or [ev.get("contact")]:
+                out.setdefault((c, ev["kind"]), []).append(ev["t"])
+        return out
+    ref = grouped(reference)
+    errors, unmatched = [], 0
+    for (c, kind), times in sorted(grouped(tool).items()):
+        rts = ref.get((c, kind), [])
+        for k, t in enumerate(times):
+            if k < len(rts):
+                errors.append({"contact": c, "kind": kind, "k": k + 1, "t": t, "t_ref": rts[k],
+                               "error": abs(t - rts[k])})
+            else:
+                unmatched += 1
+    return errors, unmatched
+
+
 def metrics(model, ref, impacts, final, zeno_estimates, final_dt=0.0, window=None,
-            liftoffs=None):
+            liftoffs=None, friction=None):
     """final_dt: how far from the reference's final time the tool's final state may be and
     still be compared (a time-stepping run ends on its grid: up to one step h from t_end).
     window: the end of the reference's window (reference_window): only the impacts and lift-offs
     up to it are matched, and `final` is the tool's state there (from a run to that time).
     liftoffs: the tool's lift-offs ({"t", "contacts"}), matched like the impacts when the
-    reference lists some."""
+    reference lists some. friction: the tool's friction events ({"t", "contact", "kind"}: a
+    held contact that sticks, starts to slip, or reverses its slip), matched per contact and
+    kind when the reference lists some (friction_events). Where the reference has
+    alternatives (the same model under another law), the same metrics against each."""
     out = {"impacts": len(impacts)}
+    if ref.get("friction_events") is not None and friction is not None:
+        ferr, fun = match_friction(friction, ref["friction_events"])
+        counts = {}
+        for ev in friction:
+            counts[ev["kind"]] = counts.get(ev["kind"], 0) + 1
+        out["friction_events"] = counts
+        out["friction_event_errors"] = ferr[:2000]
+        out["friction_events_matched"] = len(ferr)
+        out["friction_events_beyond_reference"] = fun
+        out["friction_event_max_error"] = max((e["error"] for e in ferr), default=None)
+    if ref.get("alternatives"):
+        out["alternatives"] = {}
+        for alt in ref["alternatives"]:
+            sub = metrics(model, alt, impacts, final, zeno_estimates, final_dt, window,
+                          liftoffs, friction)
+            out["alternatives"][alt["name"]] = {
+                k: sub.get(k) for k in ("impact_time_max_error", "impact_time_max_error_first",
+                                        "impacts_matched", "impacts_beyond_reference", "zeno",
+                                        "final_state_error", "friction_event_max_error",
+                                        "friction_events_matched")}
     per = per_contact(impacts)
     out["impacts_per_contact"] = {k: len(v) for k, v in sorted(per.items())}
     if window is not None:
@@ -587,6 +721,71 @@ def outcome_text(status, t_reached):
     return f"{status}{where}"
 
 
+def zenosim_friction(model, out_dir):
+    """zenosim's friction events from its trajectory.csv: the state of each constraint with
+    friction row by row (open, stick, or slip with the sign of the slip, from the mode and the
+    sign of f_<name>: fₜ opposes the slip), and each change between two held states: "stick"
+    (from slipping), "slip" (from sticking), "reversal" (slip to slip of the other sign)."""
+    import csv
+    names = [c["name"] for c in model["constraints"] if c.get("slip")]
+    path = os.path.join(out_dir or "", "trajectory.csv")
+    if not names or not os.path.exists(path):
+        return None
+    out, prev = [], {}
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            parts = row["mode"].split(";")
+            held = set(parts[0].split(":", 1)[1].split("+")) if ":" in parts[0] else set()
+            sticking = set()
+            for part in parts[1:]:
+                if part.startswith("stick:"):
+                    sticking = set(part[len("stick:"):].split("+"))
+            t = float(row["t"])
+            for c in names:
+                if c not in held:
+                    st = "open"
+                elif c in sticking:
+                    st = "stick"
+                else:
+                    st = "slip+" if float(row[f"f_{c}"]) < 0 else "slip-"
+                before = prev.get(c)
+                if before not in (None, "open") and st != "open" and st != before:
+                    kind = ("stick" if st == "stick" else "slip" if before == "stick"
+                            else "reversal")
+                    out.append({"t": t, "contact": c, "kind": kind, "from": before, "to": st})
+                prev[c] = st
+    return out
+
+
+# A time-stepping run's stop between two slips of opposite signs lasting at most this many
+# steps is a reversal (merge_short_stops).
+STOP_STEPS = 2
+
+
+def merge_short_stops(transitions, h):
+    """A time-stepping run's friction events with its momentary stops merged: a stick of at
+    most STOP_STEPS steps between two slips of opposite signs is the scheme's way through a
+    reversal (the theta-method lands a step on x_dot = 0 where the relay's force can hold it
+    there), one reversal at the stop's time. Longer stops, and stops between slips of the same
+    sign, stay sticks."""
+    out, pending = [], {}
+    for ev in transitions:
+        c = ev["contact"]
+        if ev["kind"] == "stick":
+            pending[c] = ev
+            out.append(ev)
+            continue
+        stop = pending.pop(c, None)
+        if (ev["kind"] == "slip" and stop is not None and stop["from"] != ev["to"]
+                and ev["t"] - stop["t"] <= STOP_STEPS * h * (1 + 1e-9)):
+            out.remove(stop)
+            out.append({"t": stop["t"], "contact": c, "kind": "reversal",
+                        "from": stop["from"], "to": ev["to"]})
+            continue
+        out.append(ev)
+    return sorted(out, key=lambda e: e["t"])
+
+
 def zenosim_liftoffs(summary):
     return [{"t": ev["t"], "contacts": peer.event_contacts(ev)}
             for ev in summary.get("events") or [] if ev.get("kind") == "liftoff"]
@@ -616,8 +815,12 @@ def zenosim_rows(model, ref, zenosim, args, workdir):
                 compared = ws.get("final") if wr["status"] == "finished" else None
                 row["window_run"] = {"command": wr.get("command"), "status": wr["status"],
                                      "reason": wr.get("reason"), "final": ws.get("final")}
+            friction = zenosim_friction(model, zr.get("out_dir"))
             row["metrics"] = metrics(model, ref, impacts, compared, peer.zenosim_zeno(summary),
-                                     window=window, liftoffs=zenosim_liftoffs(summary))
+                                     window=window, liftoffs=zenosim_liftoffs(summary),
+                                     friction=friction)
+            if friction is not None:
+                row["friction_event_times"] = friction[:2000]
             row["final"] = final
             row["impact_times"] = [i["t"] for i in impacts][:2000]
             row["zeno_reported"] = summary.get("zeno")
@@ -698,6 +901,9 @@ def siconos_rows(model, ref, example, spec, libs, args, workdir):
             final = {"t": run["final"]["t"], "q": join_state(spec, model, run["final"]["q"]),
                      "q_dot": join_state(spec, model, run["final"]["q_dot"])}
         compared, end_run = final, run
+        friction = run.get("friction_transitions")
+        if friction is not None and scheme["kind"] == "TS":
+            friction = merge_short_stops(friction, scheme["h"])
         if window is not None and run["status"] == "finished":
             # the state at the end of the reference's window: a run to that time
             end_run = run_scheme(dict(spec, t_end=window), scheme, libs, args, workdir,
@@ -712,7 +918,10 @@ def siconos_rows(model, ref, example, spec, libs, args, workdir):
         row["metrics"] = metrics(model, ref, impacts, compared,
                                  siconos_zeno(model, spec, scheme, run, impacts, ref, end_run),
                                  final_dt=scheme["h"] if scheme["kind"] == "TS" else 0.0,
-                                 window=window, liftoffs=siconos_liftoffs(model, run))
+                                 window=window, liftoffs=siconos_liftoffs(model, run),
+                                 friction=friction)
+        if friction is not None:
+            row["friction_event_times"] = friction[:2000]
         row.update({"status": run["status"], "reason": run.get("reason"), "final": final,
                     "ns_events": run.get("ns_events"), "steps": run.get("steps"),
                     "newton_iterations": run.get("newton_iterations"),
@@ -801,12 +1010,16 @@ def table(results):
         lines.append(f"Reference: {zr['impacts']} impacts, Zeno points "
                      f"{zr['zeno'] or 'none'}"
                      + (f", lift-offs {zr['liftoffs']}" if zr.get("liftoffs") else "")
+                     + (f", friction events {zr['friction']}" if zr.get("friction") else "")
                      + f", {ending}.")
         lines.append("")
         lifts = bool((ex.get("reference") or {}).get("liftoffs"))
+        fric = (ex.get("reference") or {}).get("friction_events") is not None
         head = ["tool", "setting", "outcome", "impacts",
                 f"impact t: max abs err (n); first {FIRST_IMPACTS}", "Zeno err"] \
-            + (["lift-off err (n)"] if lifts else []) + ["final err", "wall (ms)"]
+            + (["lift-off err (n)"] if lifts else []) \
+            + (["stick/slip events", "stick/slip t: max abs err (n)"] if fric else []) \
+            + ["final err", "wall (ms)"]
         lines.append("| " + " | ".join(head) + " |")
         lines.append("|" + "---|" * len(head))
         for row in ex["rows"]:
@@ -838,8 +1051,31 @@ def table(results):
             if lifts:
                 lift = ["–" if mt.get("liftoff_max_error") is None else
                         f"{fmt(mt['liftoff_max_error'])} ({len(mt.get('liftoff_errors') or [])})"]
+            fr = []
+            if fric:
+                counts = mt.get("friction_events")
+                fr = ["–" if counts is None else
+                      (", ".join(f"{k} {v}" for k, v in sorted(counts.items())) or "none"),
+                      "–" if mt.get("friction_event_max_error") is None else
+                      f"{fmt(mt['friction_event_max_error'])} "
+                      f"({mt.get('friction_events_matched', 0)})"]
             lines.append("| " + " | ".join([row["tool"], row["setting"], row["outcome"], imp,
-                                            errs, zeno] + lift + [final, wall_s]) + " |")
+                                            errs, zeno] + lift + fr + [final, wall_s]) + " |")
+        for alt in (ex.get("reference") or {}).get("alternatives") or []:
+            lines.append("")
+            lines.append(f"Against the reference's alternative `{alt['name']}` "
+                         f"({alt.get('description', '')}):")
+            lines.append("")
+            lines.append("| tool | setting | impact t: max abs err (n) | final err |")
+            lines.append("|---|---|---|---|")
+            for row in ex["rows"]:
+                am = ((row.get("metrics") or {}).get("alternatives") or {}).get(alt["name"])
+                if am is None:
+                    continue
+                err = am.get("impact_time_max_error")
+                errs = "–" if err is None else f"{fmt(err)} ({am.get('impacts_matched', 0)})"
+                lines.append(f"| {row['tool']} | {row['setting']} | {errs} | "
+                             f"{fmt(am.get('final_state_error'))} |")
         notes = [r for r in ex["rows"] if r.get("note")]
         if notes:
             lines.append("")
@@ -857,13 +1093,18 @@ def reference_summary(ref):
                      f"{z['t']:.10g}" for z in ref.get("zeno") or [])
     lifts = ", ".join(f"{'+'.join(z.get('constraints') or z.get('contacts') or [])} "
                       f"{z['t']:.10g}" for z in ref.get("liftoffs") or [])
+    counts = {}
+    for ev in ref.get("friction_events") or []:
+        counts[ev["kind"]] = counts.get(ev["kind"], 0) + 1
+    friction = ", ".join(f"{k} {v}" for k, v in sorted(counts.items()))
     return {"impacts": len(ref.get("impacts") or []), "zeno": zeno, "liftoffs": lifts,
+            "friction": friction,
             "final_t": (ref.get("final") or {}).get("t"), "rest": bool(ref.get("rest"))}
 
 
 # Lists of one record per impact (or lift-off), stored by column: {"contact": [...], "k": [...],
 # "t": [...], ...}, the i-th record being the i-th entry of each column.
-COLUMNAR = ("impact_errors", "liftoff_errors")
+COLUMNAR = ("impact_errors", "liftoff_errors", "friction_event_errors")
 # A value whose JSON is at most this long is written on one line.
 LINE = 120
 
@@ -1008,7 +1249,11 @@ def main():
             ex["reference_summary"] = reference_summary(ref)
             ex["reference"] = {k: ref.get(k) for k in ("example", "commit", "model", "method",
                                                       "accuracy", "notes", "final", "zeno",
-                                                      "liftoffs", "rest")}
+                                                      "liftoffs", "rest", "friction_events")}
+            if ref.get("alternatives"):
+                ex["reference"]["alternatives"] = [
+                    {k: a.get(k) for k in ("name", "description", "final")}
+                    for a in ref["alternatives"]]
             try:
                 spec = example.spec(model)
                 spec["name"] = name
@@ -1033,6 +1278,8 @@ def main():
             old = json.load(f)
         for name in args.examples:
             old["results"][name] = results["results"][name]
+            if name not in old["examples"]:  # a new example: its table after the others
+                old["examples"].append(name)
             old.setdefault("updates", []).append(
                 {"example": name, "date": results["date"], "load_before": results["load_before"],
                  "load_after": results["load_after"], "zenosim": results["zenosim"]})
