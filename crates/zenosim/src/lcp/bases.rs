@@ -7,12 +7,18 @@
 //! `S`, and the one with the smallest violation of the check ([`super::check::violation`]) is
 //! returned, for the caller to check again. An LCP that has a solution has a complementary
 //! basic one (where its basis matrix is regular), so this finds it wherever the matrices of
-//! the bases on the way are not singular.
+//! the bases on the way are not singular. Where a basis matrix is singular or nearly so (two
+//! contacts with the same slip row: a block landing flat on two rough corners), its solution
+//! of least norm (singular values below `1e-12` of the largest dropped) is tried too: the
+//! equations are then consistent, and that solution meets them.
 
 use super::check::{affine, violation};
 
 /// The largest problem enumerated: `2¹²` bases of at most `12×12`.
 pub(super) const MAX_SIZE: usize = 12;
+
+/// How far below 0, relative to the largest entry, a basic variable is taken for 0.
+const ROUNDING: f64 = 256.0 * f64::EPSILON;
 
 /// The complementary basic solution of `(m, q)` with the smallest violation, if any basis is
 /// regular, and that violation.
@@ -24,24 +30,51 @@ pub(super) fn solve(m: &[f64], q: &[f64]) -> Option<(Vec<f64>, f64)> {
     let mut best: Option<(Vec<f64>, f64)> = None;
     for mask in 0u32..(1 << k) {
         let s: Vec<usize> = (0..k).filter(|&i| mask & (1 << i) != 0).collect();
-        let Some(z_s) = solve_square(m, k, &s, q) else {
-            continue;
-        };
-        let mut z = vec![0.0; k];
-        for (&i, &v) in s.iter().zip(&z_s) {
-            z[i] = v;
-        }
-        let w = affine(m, q, &z);
-        let worst = violation(m, q, &z, &w);
-        if worst.is_finite() && best.as_ref().is_none_or(|b| worst < b.1) {
-            let done = worst == 0.0;
-            best = Some((z, worst));
-            if done {
-                break;
+        let tries = [solve_square(m, k, &s, q), solve_least_norm(m, k, &s, q)];
+        for z_s in tries.into_iter().flatten() {
+            let mut z = vec![0.0; k];
+            for (&i, &v) in s.iter().zip(&z_s) {
+                z[i] = v;
             }
+            // A basic variable at 0 comes out of the solve at its rounding, either side: on
+            // the negative side it is 0 (the check that follows judges the result).
+            let size = z.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+            for v in &mut z {
+                if *v < 0.0 && *v >= -ROUNDING * size {
+                    *v = 0.0;
+                }
+            }
+            let w = affine(m, q, &z);
+            let worst = violation(m, q, &z, &w);
+            if worst.is_finite() && best.as_ref().is_none_or(|b| worst < b.1) {
+                best = Some((z, worst));
+            }
+        }
+        if best.as_ref().is_some_and(|b| b.1 == 0.0) {
+            break;
         }
     }
     best
+}
+
+/// `x` with `m_SS x = −q_S` of least norm, singular values below `1e-12` of the largest
+/// dropped; `None` where it is not finite.
+fn solve_least_norm(m: &[f64], k: usize, s: &[usize], q: &[f64]) -> Option<Vec<f64>> {
+    let p = s.len();
+    if p == 0 {
+        return Some(Vec::new());
+    }
+    let a = nalgebra::DMatrix::from_fn(p, p, |r, c| m[s[r] * k + s[c]]);
+    let b = nalgebra::DVector::from_fn(p, |r, _| -q[s[r]]);
+    let svd = a.svd(true, true);
+    let largest = svd.singular_values.max();
+    if !largest.is_finite() || largest == 0.0 {
+        return None;
+    }
+    let x = svd.solve(&b, 1e-12 * largest).ok()?;
+    x.iter()
+        .all(|v| v.is_finite())
+        .then(|| x.iter().copied().collect())
 }
 
 /// `x` with `m_SS x = −q_S`, by Gaussian elimination with partial pivoting; `None` where a

@@ -331,7 +331,7 @@ fn support_solve(m: &[f64], q: &[f64], z: &[f64]) -> Option<Vec<f64>> {
 
 /// Solves `a x = b` (`a` is `n×n`, row-major) in place by Gaussian elimination with partial
 /// pivoting; `b` becomes `x`. `None` if a pivot is below [`SINGULAR_TOLERANCE`]` · n · max|a|`.
-fn gauss_solve(a: &mut [f64], b: &mut [f64], n: usize) -> Option<()> {
+pub(super) fn gauss_solve(a: &mut [f64], b: &mut [f64], n: usize) -> Option<()> {
     let largest = a.iter().fold(0.0_f64, |acc, x| acc.max(x.abs()));
     let tiny = SINGULAR_TOLERANCE * n as f64 * largest;
     for c in 0..n {

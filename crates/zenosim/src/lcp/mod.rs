@@ -80,6 +80,7 @@ mod active_set;
 mod bases;
 mod check;
 mod lemke;
+mod refine;
 
 #[cfg(test)]
 mod random;
@@ -319,7 +320,17 @@ fn solve_with_limit(
             return Err(LcpError::NonFinite);
         }
         let worst = check::violation_with(m, &q, &z, &w, allowance);
-        Ok((worst <= ACCEPTANCE).then_some(Solution { z, w }))
+        if worst <= ACCEPTANCE {
+            return Ok(Some(Solution { z, w }));
+        }
+        // Refined on its support, each row may meet the check (module `refine`).
+        let (z, _) = refine::refine(m, &q, z);
+        let w = check::affine(m, &q, &z);
+        let worst = check::violation_with(m, &q, &z, &w, allowance);
+        Ok(
+            (worst <= ACCEPTANCE && z.iter().chain(&w).all(|x| x.is_finite()))
+                .then_some(Solution { z, w }),
+        )
     };
     let mut first_stop = None;
     let mut active_set_tried = false;
@@ -336,11 +347,10 @@ fn solve_with_limit(
     for pivot_tolerance in lemke::PIVOT_TOLERANCES {
         let stop = match lemke::solve(&ms, &qs, limit, pivot_tolerance) {
             Ok(lemke::End::Complementary(zs)) => {
-                let (zs, worst) = lemke::polish(&ms, &qs, zs);
-                if worst <= ACCEPTANCE {
-                    if let Some(solution) = unscale(zs)? {
-                        return Ok(solution);
-                    }
+                // (Checked, and refined where the check asks for it, in the data's units.)
+                let (zs, _) = lemke::polish(&ms, &qs, zs);
+                if let Some(solution) = unscale(zs)? {
+                    return Ok(solution);
                 }
                 Stop::Inaccurate
             }
@@ -368,11 +378,9 @@ fn solve_with_limit(
     // The last resort for small problems: every complementary basis (module `bases`), where
     // their number is within the limit on the pivots.
     let enumerable = k <= bases::MAX_SIZE && (1usize << k) <= limit;
-    if let Some((zs, worst)) = enumerable.then(|| bases::solve(&ms, &qs)).flatten() {
-        if worst <= ACCEPTANCE {
-            if let Some(solution) = unscale(zs)? {
-                return Ok(solution);
-            }
+    if let Some((zs, _)) = enumerable.then(|| bases::solve(&ms, &qs)).flatten() {
+        if let Some(solution) = unscale(zs)? {
+            return Ok(solution);
         }
     }
     Err(LcpError::Failed {
