@@ -1361,3 +1361,115 @@ fn the_spherical_pendulum_passes_its_pole_at_any_distance() {
         run_case(&file, &derived, &state, false).unwrap_or_else(|e| panic!("φ̇ = {phi_dot:e}: {e}"));
     }
 }
+
+// ----- random models with friction -------------------------------------------------------------
+
+/// A shipped model with friction and its parameters drawn from eight uniform numbers: its
+/// friction coefficients, restitutions, geometry and launch, each over a range where the
+/// model is what its file says (a rough contact, a body that stays on its surface's side).
+fn random_frictional_model(k: usize, u: &[f64; 8]) -> (&'static str, Vec<(&'static str, f64)>) {
+    let between = |x: f64, a: f64, b: f64| a + (b - a) * x;
+    match k {
+        0 => (
+            "ball-backspin.toml",
+            vec![
+                ("mu", between(u[0], 0.0, 1.5)),
+                ("e", between(u[1], 0.0, 0.95)),
+                ("v0", between(u[2], -3.0, 3.0)),
+                ("w0", between(u[3], -40.0, 40.0)),
+                ("y0", between(u[4], 0.1, 2.0)),
+            ],
+        ),
+        1 => (
+            "rough-incline.toml",
+            vec![
+                ("alpha", between(u[0], 0.0, 1.2)),
+                ("mu", between(u[1], 0.0, 2.0)),
+                ("v0", between(u[2], -3.0, 3.0)),
+            ],
+        ),
+        2 => (
+            "belt-stick-slip.toml",
+            vec![
+                ("k", between(u[0], 0.5, 20.0)),
+                ("vb", between(u[1], -2.0, 2.0)),
+            ],
+        ),
+        3 => (
+            "housner-block.toml",
+            vec![
+                ("b", between(u[0], 0.05, 0.5)),
+                ("c", between(u[1], 0.1, 1.0)),
+                ("mu", between(u[2], 0.05, 2.0)),
+                ("th0", between(u[3], 0.0, 0.2)),
+            ],
+        ),
+        4 => (
+            "rimless-wheel.toml",
+            vec![
+                ("gamma", between(u[0], 0.0, 0.3)),
+                ("mu", between(u[1], 0.3, 2.0)),
+                ("w0", between(u[2], 0.0, 3.0)),
+            ],
+        ),
+        5 => (
+            "painleve-rod.toml",
+            vec![
+                ("mu", between(u[0], 0.0, 4.0)),
+                ("th0", between(u[1], 0.1, 1.4)),
+            ],
+        ),
+        _ => (
+            "sphere-slide-spin.toml",
+            vec![
+                ("mu", between(u[0], 0.0, 1.5)),
+                ("vx", between(u[1], -3.0, 3.0)),
+                ("vy", between(u[2], -3.0, 3.0)),
+                ("wx", between(u[3], -30.0, 30.0)),
+                ("wy", between(u[4], -30.0, 30.0)),
+                ("wz", between(u[5], -30.0, 30.0)),
+            ],
+        ),
+    }
+}
+
+/// Random models with friction (issue 33): the shipped frictional models, planar and in space,
+/// with random coefficients, restitutions, geometry and launches, each run from its own initial
+/// state and checked as the random states are (no panic, no hang, no contact crossed below its
+/// rounding, no energy gained at an impact or while slipping); Painlevé's paradox, where the
+/// rod's friction brings it, is the model's answer.
+#[test]
+fn random_frictional_models() {
+    let cases = case_count();
+    let config = Config {
+        cases,
+        failure_persistence: None,
+        rng_seed: RngSeed::Fixed(37),
+        max_shrink_iters: 50,
+        ..Config::default()
+    };
+    let mut runner = TestRunner::new(config);
+    let strategy = (0usize..7, prop::array::uniform8(0.0..1.0f64));
+    let result = runner.run(&strategy, |(k, u)| {
+        let (name, values) = random_frictional_model(k, &u);
+        let overrides: Vec<zenosim_model::Override> = values
+            .iter()
+            .map(|(name, value)| zenosim_model::Override {
+                name: name.to_string(),
+                value: format!("{value:e}"),
+            })
+            .collect();
+        let source = std::fs::read_to_string(models_dir().join(name)).unwrap();
+        let file = parse_model(name, &source, &overrides)
+            .map_err(|e| TestCaseError::fail(format!("{name} {values:?}: refused: {e}")))?;
+        let derived = Derived::new(&file.model)
+            .map_err(|e| TestCaseError::fail(format!("{name} {values:?}: {e}")))?;
+        let state = (file.initial.q.clone(), file.initial.q_dot.clone());
+        run_case(&file, &derived, &state, false)
+            .map(|_| ())
+            .map_err(|e| TestCaseError::fail(format!("{name} {values:?}: {e}")))
+    });
+    if let Err(error) = result {
+        panic!("{error}");
+    }
+}

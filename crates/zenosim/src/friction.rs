@@ -1367,7 +1367,13 @@ impl Frame {
                             .zip(&before)
                             .map(|(a, v)| (a * v).abs())
                             .sum();
-                        ROUND_OFF * (1.0 + e[r]) * (terms + approach[r].abs())
+                        // And the slips', as eliminating them carries their rounding into
+                        // this row (a contact hardly approaching while it slips fast).
+                        let slips: f64 = (k..k + m)
+                            .filter(|&c| matrix[c * size + c] != 0.0)
+                            .map(|c| (matrix[r * size + c] * q[c] / matrix[c * size + c]).abs())
+                            .sum();
+                        ROUND_OFF * ((1.0 + e[r]) * (terms + approach[r].abs()) + slips)
                     } else if r < k + m {
                         self.tangents[candidates[r - k]]
                             .as_ref()

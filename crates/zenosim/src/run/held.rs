@@ -69,12 +69,16 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         }
         if let Some(c) = crossing {
             let t = c.t_violating;
+            // The dense output's state there, where the margin is past 0: it says which
+            // margin crossed where the step to `t` itself still sees the old states.
+            let mut seen = vec![0.0; 2 * n];
+            interpolate(&self.stepper, self.cubic, t, &mut seen);
             self.emit_grid_before(t)?;
             let mut state = self.state_at(t)?;
             let copy = state.clone();
             contact::project_onto(&self.mech, held, self.grips, t, n, &mut state)
                 .map_err(|err| self.fail_dynamics(err, t, &copy))?;
-            return self.transition(held, t, state);
+            return self.transition(held, t, state, &seen);
         }
         // (The step's end is on h = 0, ḣ = 0 already: `Equations::correct_end`.)
         self.flight_bound = next_bound.flatten().unwrap_or(f64::INFINITY);
@@ -135,12 +139,16 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
     /// A held force or friction state reached its limit at `t`: law 1 on the set decides anew
     /// which constraints hold and, with friction, which stick or slip (docs/friction.md). At
     /// the root itself it may still see the old states (the margin at 0): then the contact
-    /// whose margin is largest changes (it lets go, starts to slip, or sticks).
+    /// whose margin is largest in `seen`, the dense output's state at `t` where the search
+    /// found the margin past 0, changes (it lets go, starts to slip, or sticks). (The step to
+    /// `t` and the dense output differ by the tolerance: a slip that reversed in the one may
+    /// not have in the other, and a contact far from letting go must not be taken for it.)
     pub(super) fn transition(
         &mut self,
         held: ActiveSet,
         t: f64,
         mut state: Vec<f64>,
+        seen: &[f64],
     ) -> Result<Next, Error> {
         // A slip that reached 0 is set to 0 (the root leaves it a rounding past), so that law 1
         // sees the contact at rest and decides with the static cone.
@@ -157,7 +165,25 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         .map_err(|err| self.fail_dynamics(err, t, &copy))?;
         let (mut still, mut grips) = self.decide(held, t, &state)?;
         if still == held && grips == self.grips {
-            (still, grips) = self.forced_change(held, t, &state)?;
+            // (Without friction, the exact state's margins, as before friction came.)
+            let at = if self.mech.frictional(held) {
+                seen
+            } else {
+                &state
+            };
+            (still, grips) = self.forced_change(held, t, at)?;
+            let stopped = grips.stick.minus(self.grips.stick);
+            if still == held && !stopped.is_empty() {
+                // A slip that stopped in the dense output but not yet in the step: stopped
+                // here too, law 1 decides from rest (it may slip on the other way).
+                let copy = state.clone();
+                contact::project_onto(&self.mech, held, grips, t, self.n, &mut state)
+                    .map_err(|err| self.fail_dynamics(err, t, &copy))?;
+                let (after, after_grips) = self.decide(held, t, &state)?;
+                if after != held || after_grips != self.grips {
+                    (still, grips) = (after, after_grips);
+                }
+            }
         }
         let gone = held.minus(still);
         if !gone.is_empty() {
