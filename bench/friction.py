@@ -54,6 +54,10 @@ imp=[x for x in d['events'] if x['kind']=='impact']
 res['rimless wheel']=dict(ratio=max(abs(x['after']['q_dot'][2]/x['before']['q_dot'][2]-r) for x in imp),
     stance_gain=max(abs(y['before']['q_dot'][2]**2-x['after']['q_dot'][2]**2-K)/K for x,y in zip(imp,imp[1:])),
     last_to_cycle=abs(abs(imp[-1]['after']['q_dot'][2])-ws), n=len(imp), wall=w)
+d,w=run('sphere-slide-spin')
+u0=(2.0-0.1*-15.0, 0.5+0.1*10.0); ts=math.hypot(*u0)/(3.5*0.3*G)
+st=[x['t'] for x in d['events'] if x['kind']=='stick']; v=d['final']['q_dot']
+res['sphere in space']=dict(stick=abs(st[0]-ts), vx=abs(v[0]-(2.0-2/7*u0[0])), vy=abs(v[1]-(0.5-2/7*u0[1])), spin_z=abs(v[5]-7.0), wall=w)
 d,w=run('painleve-rod')
 res['painleve']=dict(status=d['status'], t=d['final']['t'], msg=d['message'][:90], wall=w)
 for k,v in res.items(): print(k, {a:(('%.1e'%b) if isinstance(b,float) else b) for a,b in v.items()})

@@ -878,6 +878,32 @@ pub(crate) fn scales<L: HybridLagrangian>(
     Ok(frame.scales(&forces))
 }
 
+/// With contacts in space that slip in `grips`, the directions of their slip margins renewed to
+/// their slips at `(t, q, q̇)` ([`Frame::renew_directions`]); nothing for contacts in a plane.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn renew_slip_directions<L: HybridLagrangian>(
+    mech: &Mechanics<'_, L>,
+    set: ActiveSet,
+    grips: Grips,
+    t: f64,
+    q: &[f64],
+    q_dot: &[f64],
+    scales: &mut [f64],
+) -> Result<(), DynamicsError> {
+    let model = mech.model();
+    let in_space = grips
+        .slipping()
+        .intersection(set)
+        .iter()
+        .any(|i| model.constraints()[i].friction.is_some() && model.slip_components(i) == 2);
+    if !in_space {
+        return Ok(());
+    }
+    let frame = Frame::of(mech, set, t, q, q_dot)?;
+    frame.renew_directions(grips, scales);
+    Ok(())
+}
+
 /// The change of state at a root where law 1 still sees the old states, with friction
 /// ([`Frame::worst_change`]): the held set and friction states after it.
 pub(crate) fn worst_change<L: HybridLagrangian>(

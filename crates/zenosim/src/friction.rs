@@ -24,8 +24,9 @@ const SETTLE_SWEEPS: usize = 50;
 /// How many numbers [`Frame::scales`] keeps per contact.
 const SCALES: usize = 5;
 
-/// Turns of the slip directions of contacts in space through an impact before they must agree.
-const IMPACT_SWEEPS: usize = 100;
+/// Turns of the slip directions of contacts in space through an impact by fixed point before
+/// they are bracketed instead.
+const IMPACT_SWEEPS: usize = 20;
 
 /// The slip of a contact at one state (docs/friction.md): `s`, its row `S = ∂s/∂q̇`, the part
 /// of `ṡ` that `q̈` does not give, `σ = (∂s/∂q) q̇ + ∂s/∂t`, and the size of `s`'s terms.
@@ -199,12 +200,16 @@ impl Tangent {
         size <= (ROUND_OFF * scale).max(self.floor)
     }
 
-    /// Whether the slip is not 0 to its rounding (in space, its length): its direction is
-    /// then known.
-    pub fn moving(&self) -> bool {
+    /// In space, whether the slip is small enough for its direction to be the one the forces
+    /// drive it in ([`Frame::settled`]) rather than its own: at most `√floor` (`10⁻⁵` for the
+    /// default tolerance). Across a slip that small the kinetic force damps any turn of the
+    /// slip at the rate `μₖ fₙ/|s|` (times the response across), far faster than a step can
+    /// follow: the slip's own direction, off by its rounding, would make the motion unstable,
+    /// while the direction of the forces is where that damping takes it.
+    fn settling(&self) -> bool {
         let v = self.slip_vector();
         let scale = self.slip.scale + self.space.as_ref().map_or(0.0, |s| s.cross.slip.scale);
-        v[0].hypot(v[1]) > ROUND_OFF * scale
+        v[0].hypot(v[1]) <= self.floor.sqrt().max(ROUND_OFF * scale)
     }
 
     /// The slip in the model's components: `(s, 0)` in a plane.
@@ -444,7 +449,7 @@ impl Frame {
                         space,
                     };
                     // In space, the main part runs along the slip while it slips.
-                    if tangent.space.is_some() && tangent.moving() {
+                    if tangent.space.is_some() && !tangent.at_rest() {
                         tangent.rotate(tangent.slip_vector());
                     }
                     tangent
@@ -652,16 +657,16 @@ impl Frame {
         })
     }
 
-    /// Where contacts in space slip in `grips` from rest (their slip is 0), the frame with
-    /// each one's basis along the direction it slips: the kinetic force along `−basis` must
-    /// drive the slip along `basis`, so the force across, were the slip across held at 0,
-    /// is 0 ([`Frame::slip_direction`]; jointly, contact by contact, for several). `None`
-    /// where there is none such.
+    /// Where contacts in space slip in `grips` from rest or nearly ([`Tangent::settling`]), the
+    /// frame with each one's basis along the direction the forces drive its slip in: the
+    /// kinetic force along `−basis` must drive the slip along `basis`, so the force across,
+    /// were the slip across held at 0, is 0 ([`Frame::slip_direction`]; jointly, contact by
+    /// contact, for several). `None` where there is none such.
     fn settled(&self, set: ActiveSet, grips: Grips) -> Result<Option<Frame>, DynamicsError> {
         let moving: Vec<usize> = (0..self.len())
             .filter(|&p| {
                 self.tangents[p].as_ref().is_some_and(|t| {
-                    t.space.is_some() && !t.moving() && grips.direction(self.indices[p]) != 0.0
+                    t.space.is_some() && t.settling() && grips.direction(self.indices[p]) != 0.0
                 })
             })
             .collect();
@@ -673,8 +678,12 @@ impl Frame {
             let mut change = 0.0_f64;
             for &p in &moving {
                 // Where it has no such direction (a slip that has just stopped, seen in the
-                // states before law 1 decides again), its basis stays.
-                let Some(new) = frame.slip_direction(set, grips, p) else {
+                // states before law 1 decides again), against the force that would hold it;
+                // its basis stays only where that is 0.
+                let Some(new) = frame
+                    .slip_direction(set, grips, p)
+                    .or_else(|| frame.against_holding(set, grips, p))
+                else {
                     continue;
                 };
                 let old = frame
@@ -697,8 +706,10 @@ impl Frame {
     /// The direction in which the contact in space at position `p`, at rest, slips in the
     /// states `grips` (the others as they are): the unit vector `b` at which, the kinetic force
     /// along `−b` and the slip across `b` held, the force across is 0 and the slip's
-    /// acceleration along `b` is positive. Bracketed on a ring of angles, then bisected to
-    /// rounding. `None` where there is none.
+    /// acceleration along `b` is not negative (to `10⁻⁸` of its size around the ring: at the
+    /// onset of a slip with `μₛ = μₖ` it is 0). Bracketed on a ring of angles, then bisected to
+    /// rounding; of several, the one the slip accelerates along most. `None` where there is
+    /// none.
     fn slip_direction(&self, set: ActiveSet, grips: Grips, p: usize) -> Option<[f64; 2]> {
         let mut frame = self.clone();
         let mut at = |angle: f64| -> Option<(f64, f64)> {
@@ -709,39 +720,61 @@ impl Frame {
             let along = dot(&t.slip.row, &forces.q_ddot) + t.slip.sigma;
             Some((forces.cross[p], along))
         };
-        let ring = 48;
+        let ring: u32 = 48;
         let step = std::f64::consts::TAU / f64::from(ring);
+        let samples: Vec<Option<(f64, f64)>> =
+            (0..=ring).map(|i| at(step * f64::from(i))).collect();
+        let size = samples
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |m, &(_, a)| m.max(a.abs()));
         let mut best: Option<(f64, f64)> = None;
-        let mut previous = at(0.0);
         for i in 1..=ring {
+            let (Some((g0, _)), Some((g1, _))) = (samples[i as usize - 1], samples[i as usize])
+            else {
+                continue;
+            };
+            if g0 * g1 > 0.0 {
+                continue;
+            }
             let angle = step * f64::from(i);
-            let here = at(angle);
-            if let (Some((g0, a0)), Some((g1, a1))) = (previous, here) {
-                if g0 * g1 <= 0.0 && a0 > 0.0 && a1 > 0.0 {
-                    let (mut low, mut high, mut g_low) = (angle - step, angle, g0);
-                    for _ in 0..64 {
-                        let mid = 0.5 * (low + high);
-                        if mid <= low || mid >= high {
-                            break;
-                        }
-                        let Some((g, _)) = at(mid) else { break };
-                        if (g <= 0.0) == (g_low <= 0.0) {
-                            low = mid;
-                            g_low = g;
-                        } else {
-                            high = mid;
-                        }
-                    }
-                    let root = 0.5 * (low + high);
-                    let along = at(root).map_or(0.0, |(_, a)| a);
-                    if best.is_none_or(|(_, a)| along > a) {
-                        best = Some((root, along));
-                    }
+            let (mut low, mut high, mut g_low) = (angle - step, angle, g0);
+            for _ in 0..64 {
+                let mid = 0.5 * (low + high);
+                if mid <= low || mid >= high {
+                    break;
+                }
+                let Some((g, _)) = at(mid) else { break };
+                if (g <= 0.0) == (g_low <= 0.0) {
+                    low = mid;
+                    g_low = g;
+                } else {
+                    high = mid;
                 }
             }
-            previous = here;
+            let root = 0.5 * (low + high);
+            let Some((_, along)) = at(root) else { continue };
+            if along >= -1e-8 * size && best.is_none_or(|(_, a)| along > a) {
+                best = Some((root, along));
+            }
         }
         best.map(|(angle, _)| [angle.cos(), angle.sin()])
+    }
+
+    /// The direction against the force that would hold the contact in space at position `p`
+    /// sticking (the others in `grips`): where it starts to slip at its cone's edge, it slips
+    /// that way (exactly for an isotropic response). `None` where that force is 0 or not found.
+    fn against_holding(&self, set: ActiveSet, grips: Grips, p: usize) -> Option<[f64; 2]> {
+        let only = ActiveSet::single(self.indices[p]);
+        let holding = Grips {
+            stick: grips.stick.union(only),
+            forward: grips.forward.minus(only),
+            backward: grips.backward.minus(only),
+        };
+        let forces = self.forces_held(set, holding, &[]).ok()?;
+        let f = forces.components(p, self.tangent(p));
+        let size = f[0].hypot(f[1]);
+        (size > 0.0).then(|| [-f[0] / size, -f[1] / size])
     }
 
     /// How far each contact of the held frame is from a transition in the states `grips`,
@@ -803,6 +836,21 @@ impl Frame {
                 -sign * (scales[SCALES * p + 3] * v[0] + scales[SCALES * p + 4] * v[1])
             }
         })
+    }
+
+    /// The directions the slip margins of the contacts in space that slip in `grips` are
+    /// measured along (kept in `scales`, [`Frame::scales`]) renewed to their slips now, where
+    /// those are not at rest: renewed every step, a margin crosses 0 where the slip stops, not
+    /// where it turns (a puck sliding across a slope turns its slip by more than a right angle).
+    pub fn renew_directions(&self, grips: Grips, scales: &mut [f64]) {
+        for p in 0..self.len() {
+            let Some(t) = &self.tangents[p] else { continue };
+            let Some(space) = &t.space else { continue };
+            if grips.direction(self.indices[p]) != 0.0 && !t.at_rest() {
+                scales[SCALES * p + 3] = space.basis[0];
+                scales[SCALES * p + 4] = space.basis[1];
+            }
+        }
     }
 
     /// Whether the contact at position `p`, slipping in `grips`, has stopped: its slip is 0 or
@@ -957,14 +1005,17 @@ impl Frame {
         if let Some(decision) = self.all_held(set, &at_rest) {
             return Ok(decision);
         }
-        // Contacts in space at rest that cannot all stick slip from rest, forwards along a
-        // basis: for the LCP, against the force that would have held them (the held motion
-        // then finds the exact direction, `Frame::settled`). The others are candidates.
-        let (in_space, candidates): (Vec<usize>, Vec<usize>) = at_rest
+        // Contacts in space at rest enter the LCP along the direction against the force that
+        // would hold them all sticking (the slip across that direction then needs no force: it
+        // stays 0); where one slips, the held motion finds the exact direction it slips in
+        // from rest (`Frame::settled`).
+        let in_space: Vec<usize> = at_rest
             .iter()
-            .partition(|&&p| self.tangent(p).space.is_some());
+            .copied()
+            .filter(|&p| self.tangent(p).space.is_some())
+            .collect();
         if in_space.is_empty() {
-            return self.decide_lcp(set, &candidates);
+            return self.decide_lcp(set, &at_rest);
         }
         let mut frame = self.clone();
         let all_stick = at_rest
@@ -982,14 +1033,12 @@ impl Frame {
             let t = frame.tangents[p]
                 .as_mut()
                 .expect("a contact in space has friction");
-            let against = held
-                .as_ref()
-                .map_or([-1.0, 0.0], |f| t.components(f.tangent[p], f.cross[p]));
+            let against = held.as_ref().map_or([-1.0, 0.0], |f| f.components(p, t));
             if against[0].hypot(against[1]) > 0.0 {
                 t.rotate([-against[0], -against[1]]);
             }
         }
-        frame.decide_lcp(set, &candidates)
+        frame.decide_lcp(set, &at_rest)
     }
 
     /// Law 1's LCP (Pfeiffer and Glocker) with the contacts at positions `candidates` free to
@@ -999,8 +1048,15 @@ impl Frame {
         let k = self.len();
         let m = candidates.len();
         let size = k + 2 * m;
-        // Candidates enter with μₛ, the others with μₖ in their slip's direction.
-        let direction = |t: &Tangent| if t.slip.s < 0.0 { -1.0 } else { 1.0 };
+        // Candidates enter with μₛ, the others with μₖ in their slip's direction (in space,
+        // forwards: the basis runs along the slip).
+        let direction = |t: &Tangent| {
+            if t.slip.s < 0.0 && t.space.is_none() {
+                -1.0
+            } else {
+                1.0
+            }
+        };
         let mu: Vec<f64> = (0..k)
             .map(|p| {
                 self.tangents[p].as_ref().map_or(0.0, |t| {
@@ -1063,7 +1119,10 @@ impl Frame {
             // The slip's acceleration ṡ = ṡ⁺ − ṡ⁻ (both may be positive where no normal force
             // bounds the tangential one).
             let s_ddot = forward - backward;
-            if s_ddot < -round {
+            if t.space.is_some() && s_ddot.abs() > round {
+                // In space it slips forwards along the direction it finds from rest.
+                grips.forward = grips.forward.with(index);
+            } else if s_ddot < -round {
                 grips.backward = grips.backward.with(index);
             } else if s_ddot > round {
                 grips.forward = grips.forward.with(index);
@@ -1312,7 +1371,98 @@ impl Frame {
                 return Ok((normal, tangent));
             }
         }
+        // The fixed point turns round where the response is anisotropic (`S M⁻¹ Sᵀ` not a
+        // multiple of the identity): each direction found on a ring of angles instead, contact
+        // by contact, until they agree.
+        for _ in 0..SETTLE_SWEEPS {
+            let mut change = 0.0_f64;
+            for &p in in_space {
+                let new = frame
+                    .impact_direction(set, e, approach, &before, in_space, p)
+                    .ok_or(DynamicsError::SpatialFriction { constraints: set })?;
+                let t = frame.tangents[p]
+                    .as_mut()
+                    .expect("a contact in space has friction");
+                let old = t.space.as_ref().map_or([1.0, 0.0], |s| s.basis);
+                change = change.max((new[0] - old[0]).hypot(new[1] - old[1]));
+                t.rotate(new);
+            }
+            if in_space.len() == 1 || change <= 1e-13 {
+                q_dot.copy_from_slice(&before);
+                let (normal, main) = frame.impact_with(set, e, approach, q_dot, in_space)?;
+                let mut tangent = vec![[0.0; 2]; k];
+                for p in 0..k {
+                    if let Some(t) = &frame.tangents[p] {
+                        tangent[p] = t.components(main[p], 0.0);
+                    }
+                }
+                return Ok((normal, tangent));
+            }
+        }
         Err(DynamicsError::SpatialFriction { constraints: set })
+    }
+
+    /// The direction the contact in space at position `p` slides in after an impact (the
+    /// others of `in_space` along their bases): the unit vector `b` at which, sliding along
+    /// `b` at the kinetic coefficient, its slip after the impact runs along `b` (no part
+    /// across, and a positive one along). Bracketed on a ring of angles, then bisected to
+    /// rounding; `None` where there is none.
+    fn impact_direction(
+        &self,
+        set: ActiveSet,
+        e: &[f64],
+        approach: &[f64],
+        before: &[f64],
+        in_space: &[usize],
+        p: usize,
+    ) -> Option<[f64; 2]> {
+        let mut frame = self.clone();
+        let mut after = before.to_vec();
+        let mut at = |angle: f64| -> Option<(f64, f64)> {
+            let b = [angle.cos(), angle.sin()];
+            frame.tangents[p].as_mut()?.rotate(b);
+            after.copy_from_slice(before);
+            frame
+                .impact_with(set, e, approach, &mut after, in_space)
+                .ok()?;
+            let s = frame.tangent(p).slip_after(before, &after);
+            Some((b[0] * s[1] - b[1] * s[0], b[0] * s[0] + b[1] * s[1]))
+        };
+        let ring: u32 = 48;
+        let step = std::f64::consts::TAU / f64::from(ring);
+        let samples: Vec<Option<(f64, f64)>> =
+            (0..=ring).map(|i| at(step * f64::from(i))).collect();
+        let mut best: Option<(f64, f64)> = None;
+        for i in 1..=ring {
+            let (Some((g0, _)), Some((g1, _))) = (samples[i as usize - 1], samples[i as usize])
+            else {
+                continue;
+            };
+            if g0 * g1 > 0.0 {
+                continue;
+            }
+            let angle = step * f64::from(i);
+            let (mut low, mut high, mut g_low) = (angle - step, angle, g0);
+            for _ in 0..64 {
+                let mid = 0.5 * (low + high);
+                if mid <= low || mid >= high {
+                    break;
+                }
+                let Some((g, _)) = at(mid) else { break };
+                if (g <= 0.0) == (g_low <= 0.0) {
+                    low = mid;
+                    g_low = g;
+                } else {
+                    high = mid;
+                }
+            }
+            let root = 0.5 * (low + high);
+            let Some((_, along)) = at(root) else { continue };
+            if along > 0.0 && best.is_none_or(|(_, a)| along > a) {
+                best = Some((root, along));
+            }
+        }
+        best.map(|(angle, _)| [angle.cos(), angle.sin()])
     }
 
     /// The impact law with friction for the restitutions `e`, each contact approaching at the

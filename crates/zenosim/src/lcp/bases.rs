@@ -17,7 +17,7 @@ use super::check::{affine, violation};
 /// The largest problem enumerated: `2¹²` bases of at most `12×12`.
 pub(super) const MAX_SIZE: usize = 12;
 
-/// How far below 0, relative to the largest entry, a basic variable is taken for 0.
+/// How close to 0, relative to the largest entry, a basic variable is taken for 0.
 const ROUNDING: f64 = 256.0 * f64::EPSILON;
 
 /// The complementary basic solution of `(m, q)` with the smallest violation, if any basis is
@@ -36,11 +36,12 @@ pub(super) fn solve(m: &[f64], q: &[f64]) -> Option<(Vec<f64>, f64)> {
             for (&i, &v) in s.iter().zip(&z_s) {
                 z[i] = v;
             }
-            // A basic variable at 0 comes out of the solve at its rounding, either side: on
-            // the negative side it is 0 (the check that follows judges the result).
+            // A basic variable at 0 comes out of the solve at its rounding, either side: it is
+            // 0 (the check that follows judges the result; a row whose terms are that rounding
+            // alone could not meet it otherwise).
             let size = z.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
             for v in &mut z {
-                if *v < 0.0 && *v >= -ROUNDING * size {
+                if v.abs() <= ROUNDING * size {
                     *v = 0.0;
                 }
             }

@@ -386,3 +386,34 @@ fn a_fast_slipping_ball_hardly_approaching_has_its_impact_solved() {
     );
     assert!(solution.z[2] > 6.7, "{solution:?}");
 }
+
+/// A second random Housner block landing flat while slipping on its left corner (b = 0.1034,
+/// c = 0.6557, μ = 0.0694, th0 = 0.0814, at t = 0.38995): the basis of the answer holds both
+/// equal slip rows, and its least-norm solution has the left corner's `a` at 1e-17 (0 but for
+/// rounding), on which the cone row `2 μ Λ − a`, of no other terms, failed the check. Basic
+/// variables within the rounding of the largest are 0.
+#[test]
+fn a_second_block_landing_flat_has_its_impact_solved() {
+    #[rustfmt::skip]
+    let m = [
+        1.1048090938516761, 0.9592210444503827, -0.46160925474888403, -0.4616092547488839, 0.0, 0.0,
+        0.8951909061483221, 1.040778955549618, 0.4616092547488916, 0.46160925474889153, 0.0, 0.0,
+        -0.733981980330273, 0.18923652916750297, 3.927205975299353, 3.9272059752993522, 1.0, 0.0,
+        -0.7339819803302727, 0.18923652916750286, 3.927205975299352, 3.9272059752993513, 0.0, 1.0,
+        0.13871069014180087, 0.0, -1.0, 0.0, 0.0, 0.0,
+        0.0, 0.13871069014180087, 0.0, -1.0, 0.0, 0.0,
+    ];
+    let q = [
+        0.0,
+        -0.11958963496037169,
+        -0.13521295420599871,
+        -0.1352129542059986,
+        0.0,
+        0.0,
+    ];
+    let solution = solve(&m, &q).unwrap();
+    let w = affine(&m, &q, &solution.z);
+    assert!(violation(&m, &q, &solution.z, &w) <= 1e-12, "{solution:?}");
+    assert_eq!(solution.z[0], 0.0, "{solution:?}");
+    assert!(solution.z[1] > 0.1, "{solution:?}");
+}

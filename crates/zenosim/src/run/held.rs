@@ -81,6 +81,13 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
             return self.transition(held, t, state, &seen);
         }
         // (The step's end is on h = 0, ḣ = 0 already: `Equations::correct_end`.)
+        if self.mech.frictional(held) {
+            let end = self.stepper.y().to_vec();
+            let (q, q_dot) = end.split_at(n);
+            let grips = self.grips;
+            contact::renew_slip_directions(&self.mech, held, grips, t1, q, q_dot, &mut self.scales)
+                .map_err(|err| self.fail_dynamics(err, t1, &end))?;
+        }
         self.flight_bound = next_bound.flatten().unwrap_or(f64::INFINITY);
         self.commit_step()?;
         Ok(Next::Continue)

@@ -136,7 +136,7 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
         let model = self.sim.model;
         let in_space = contacts
             .iter()
-            .any(|i| model.constraints()[i].friction.is_some() && model.slip_components(i) == 2);
+            .any(|i| model.constraints()[i].has_friction() && model.slip_components(i) == 2);
         let tangential_across = if in_space {
             tangential.iter().map(|f| f[1]).collect()
         } else {
