@@ -663,7 +663,7 @@ impl Frame {
     /// were the slip across held at 0, is 0 ([`Frame::slip_direction`]; jointly, contact by
     /// contact, for several). `None` where there is none such.
     fn settled(&self, set: ActiveSet, grips: Grips) -> Result<Option<Frame>, DynamicsError> {
-        let moving: Vec<usize> = (0..self.len())
+        let mut moving: Vec<usize> = (0..self.len())
             .filter(|&p| {
                 self.tangents[p].as_ref().is_some_and(|t| {
                     t.space.is_some() && t.settling() && grips.direction(self.indices[p]) != 0.0
@@ -673,15 +673,35 @@ impl Frame {
         if moving.is_empty() {
             return Ok(None);
         }
+        // A small slip that is not at rest and slows down along its own direction is on its
+        // way to 0 (a sphere about to roll): its direction stays its own.
+        if moving.iter().any(|&p| !self.tangent(p).at_rest()) {
+            if let Ok(forces) = self.forces_held(set, grips, &[]) {
+                moving.retain(|&p| {
+                    let t = self.tangent(p);
+                    t.at_rest() || dot(&t.slip.row, &forces.q_ddot) + t.slip.sigma >= 0.0
+                });
+            }
+            if moving.is_empty() {
+                return Ok(None);
+            }
+        }
         let mut frame = self.clone();
         for _ in 0..SETTLE_SWEEPS {
             let mut change = 0.0_f64;
             for &p in &moving {
-                // Where it has no such direction (a slip that has just stopped, seen in the
-                // states before law 1 decides again), against the force that would hold it;
+                // Near its own direction where it moves, else near the one against the force
+                // that would hold it. Where it has no such direction (a slip that has just
+                // stopped, seen in the states before law 1 decides again), against that force;
                 // its basis stays only where that is 0.
+                let t = frame.tangent(p);
+                let guess = if t.at_rest() {
+                    frame.against_holding(set, grips, p)
+                } else {
+                    t.space.as_ref().map(|s| s.basis)
+                };
                 let Some(new) = frame
-                    .slip_direction(set, grips, p)
+                    .slip_direction(set, grips, p, guess)
                     .or_else(|| frame.against_holding(set, grips, p))
                 else {
                     continue;
@@ -710,7 +730,13 @@ impl Frame {
     /// onset of a slip with `μₛ = μₖ` it is 0). Bracketed on a ring of angles, then bisected to
     /// rounding; of several, the one the slip accelerates along most. `None` where there is
     /// none.
-    fn slip_direction(&self, set: ActiveSet, grips: Grips, p: usize) -> Option<[f64; 2]> {
+    fn slip_direction(
+        &self,
+        set: ActiveSet,
+        grips: Grips,
+        p: usize,
+        guess: Option<[f64; 2]>,
+    ) -> Option<[f64; 2]> {
         let mut frame = self.clone();
         let mut at = |angle: f64| -> Option<(f64, f64)> {
             let basis = [angle.cos(), angle.sin()];
@@ -720,6 +746,24 @@ impl Frame {
             let along = dot(&t.slip.row, &forces.q_ddot) + t.slip.sigma;
             Some((forces.cross[p], along))
         };
+        // First near the guess: a bracket of ±0.05 rad closed by the Illinois method (the
+        // force across is smooth in the angle).
+        if let Some(guess) = guess {
+            let centre = guess[1].atan2(guess[0]);
+            let (a, b) = (centre - 0.05, centre + 0.05);
+            if let (Some((ga, aa)), Some((gb, ab))) = (at(a), at(b)) {
+                if ga * gb <= 0.0 {
+                    let root = illinois(&mut at, (a, ga), (b, gb));
+                    let size = aa.abs().max(ab.abs());
+                    if let Some((_, along)) = root.and_then(|r| at(r).map(|v| (r, v.1))) {
+                        if along >= -1e-8 * size {
+                            let r = root.expect("found");
+                            return Some([r.cos(), r.sin()]);
+                        }
+                    }
+                }
+            }
+        }
         let ring: u32 = 48;
         let step = std::f64::consts::TAU / f64::from(ring);
         let samples: Vec<Option<(f64, f64)>> =
@@ -1726,4 +1770,46 @@ impl Frame {
             Err(DynamicsError::NonFinite)
         }
     }
+}
+
+/// The root of `g` (the first of the pair `at` returns) between `a` and `b`, where `g` changes
+/// sign, by the Illinois method (regula falsi that halves the weight of an end kept twice) to
+/// adjacent angles or at most 60 evaluations; `None` where an evaluation fails.
+fn illinois(
+    at: &mut impl FnMut(f64) -> Option<(f64, f64)>,
+    (mut a, mut ga): (f64, f64),
+    (mut b, mut gb): (f64, f64),
+) -> Option<f64> {
+    if ga == 0.0 {
+        return Some(a);
+    }
+    if gb == 0.0 {
+        return Some(b);
+    }
+    let mut side = 0;
+    for _ in 0..60 {
+        let x = (a * gb - b * ga) / (gb - ga);
+        if !(x > a.min(b) && x < a.max(b)) || (b - a).abs() <= 4.0 * f64::EPSILON * a.abs().max(1.0)
+        {
+            return Some(0.5 * (a + b));
+        }
+        let (gx, _) = at(x)?;
+        if gx == 0.0 {
+            return Some(x);
+        }
+        if (gx < 0.0) == (gb < 0.0) {
+            (b, gb) = (x, gx);
+            if side == -1 {
+                ga *= 0.5;
+            }
+            side = -1;
+        } else {
+            (a, ga) = (x, gx);
+            if side == 1 {
+                gb *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    Some(0.5 * (a + b))
 }
