@@ -700,6 +700,11 @@ impl Frame {
                 } else {
                     t.space.as_ref().map(|s| s.basis)
                 };
+                // At rest with nothing to hold (a sphere's slip reaching 0 as it rolls): no
+                // force drives a slip; its basis stays.
+                if guess.is_none() {
+                    continue;
+                }
                 let Some(new) = frame
                     .slip_direction(set, grips, p, guess)
                     .or_else(|| frame.against_holding(set, grips, p))
