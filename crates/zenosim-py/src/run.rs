@@ -339,16 +339,15 @@ fn record(
     let mode = PyList::new(py, recorder.mode.iter().map(|&i| &labels[i as usize]))?;
     let frictional = zenosim_runs::summary::friction_indices(&file.model);
     let columns = zenosim_runs::summary::friction_columns(&file.model);
-    let friction: Vec<f64> = recorder
-        .friction
-        .chunks(m.max(1))
-        .zip(recorder.friction_across.chunks(m.max(1)))
-        .flat_map(|(first, second)| {
-            columns
-                .iter()
-                .map(move |&(i, k)| if k == 0 { first[i] } else { second[i] })
-        })
-        .collect();
+    // (The second components are recorded only where the model has a contact in space.)
+    let (first, second) = (&recorder.friction, &recorder.friction_across);
+    let mut friction: Vec<f64> = Vec::with_capacity(recorder.t.len() * columns.len());
+    for row in 0..recorder.t.len() {
+        for &(i, k) in &columns {
+            let values = if k == 0 { first } else { second };
+            friction.push(values.get(row * m + i).copied().unwrap_or(0.0));
+        }
+    }
     let balance = PyDict::new(py);
     for (k, name) in BALANCE.iter().enumerate() {
         let column: Vec<f64> = recorder

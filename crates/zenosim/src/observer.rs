@@ -22,7 +22,8 @@ pub struct Sample<'a> {
     /// acts along `Sᵢᵀ`, positive along increasing slip: docs/friction.md).
     pub friction: &'a [f64],
     /// The second component of the tangential force of every constraint whose contact is in
-    /// space (docs/friction.md; 0 elsewhere).
+    /// space (docs/friction.md; 0 elsewhere), one per constraint; empty where the model has no
+    /// contact in space.
     pub friction_across: &'a [f64],
     /// The friction states of the held contacts.
     pub grips: Grips,

@@ -138,7 +138,7 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
             scales: Vec::new(),
             parabolic: sim.model.parabolic_flight(),
             cubic: false,
-            record: Recorder::new(observer, n, m),
+            record: Recorder::new(observer, n, m, in_space(sim.model)),
             watch: ZenoWatch::new(),
             scratch: vec![0.0; 2 * n],
             w: vec![0.0; n],
@@ -308,4 +308,13 @@ impl<'s, 'a, L: HybridLagrangian, O: Observer> Runner<'s, 'a, L, O> {
         self.commit_time(t, y);
         started.map_err(|e| self.step_error(e))
     }
+}
+
+/// Whether any constraint of `model` with friction is a contact in space (two slip components).
+fn in_space<L: HybridLagrangian>(model: &L) -> bool {
+    model
+        .constraints()
+        .iter()
+        .enumerate()
+        .any(|(i, c)| c.has_friction() && model.slip_components(i) == 2)
 }

@@ -67,8 +67,10 @@ pub(super) struct Recorder<'s, O> {
 }
 
 impl<'s, O: Observer> Recorder<'s, O> {
-    /// The record of a run of `n` coordinates and `m` constraints, sent to `observer`.
-    pub fn new(observer: &'s mut O, n: usize, m: usize) -> Self {
+    /// The record of a run of `n` coordinates and `m` constraints, sent to `observer`; with
+    /// the second components of the tangential forces where the model has a contact in space
+    /// (`in_space`; else its samples' `friction_across` is empty).
+    pub fn new(observer: &'s mut O, n: usize, m: usize, in_space: bool) -> Self {
         Self {
             wants_samples: observer.wants_samples(),
             observer,
@@ -84,7 +86,7 @@ impl<'s, O: Observer> Recorder<'s, O> {
             h_buf: vec![0.0; m],
             lambda_buf: vec![0.0; m],
             friction_buf: vec![0.0; m],
-            across_buf: vec![0.0; m],
+            across_buf: vec![0.0; if in_space { m } else { 0 }],
             work: Work::default(),
             work_t: 0.0,
             work_at_t: Work::default(),
@@ -287,7 +289,10 @@ impl<L: HybridLagrangian, O: Observer> Runner<'_, '_, L, O> {
                 &mut w,
                 |i, l, _, f, _, _| {
                     lambda[i] = l;
-                    (friction[i], across[i]) = (f[0], f[1]);
+                    friction[i] = f[0];
+                    if let Some(a) = across.get_mut(i) {
+                        *a = f[1];
+                    }
                 },
             );
             self.w = w;
