@@ -1433,7 +1433,7 @@ fn random_frictional_model(k: usize, u: &[f64; 8]) -> (&'static str, Vec<(&'stat
     }
 }
 
-/// Random models with friction (issue 33): the shipped frictional models, planar and in space,
+/// Random models with friction: the shipped frictional models, planar and in space,
 /// with random coefficients, restitutions, geometry and launches, each run from its own initial
 /// state and checked as the random states are (no panic, no hang, no contact crossed below its
 /// rounding, no energy gained at an impact or while slipping); Painlevé's paradox, where the

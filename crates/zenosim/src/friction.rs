@@ -769,45 +769,7 @@ impl Frame {
                 }
             }
         }
-        let ring: u32 = 48;
-        let step = std::f64::consts::TAU / f64::from(ring);
-        let samples: Vec<Option<(f64, f64)>> =
-            (0..=ring).map(|i| at(step * f64::from(i))).collect();
-        let size = samples
-            .iter()
-            .flatten()
-            .fold(0.0_f64, |m, &(_, a)| m.max(a.abs()));
-        let mut best: Option<(f64, f64)> = None;
-        for i in 1..=ring {
-            let (Some((g0, _)), Some((g1, _))) = (samples[i as usize - 1], samples[i as usize])
-            else {
-                continue;
-            };
-            if g0 * g1 > 0.0 {
-                continue;
-            }
-            let angle = step * f64::from(i);
-            let (mut low, mut high, mut g_low) = (angle - step, angle, g0);
-            for _ in 0..64 {
-                let mid = 0.5 * (low + high);
-                if mid <= low || mid >= high {
-                    break;
-                }
-                let Some((g, _)) = at(mid) else { break };
-                if (g <= 0.0) == (g_low <= 0.0) {
-                    low = mid;
-                    g_low = g;
-                } else {
-                    high = mid;
-                }
-            }
-            let root = 0.5 * (low + high);
-            let Some((_, along)) = at(root) else { continue };
-            if along >= -1e-8 * size && best.is_none_or(|(_, a)| along > a) {
-                best = Some((root, along));
-            }
-        }
-        best.map(|(angle, _)| [angle.cos(), angle.sin()])
+        ring_root(&mut at, |along, size| along >= -1e-8 * size)
     }
 
     /// The direction against the force that would hold the contact in space at position `p`
@@ -1477,41 +1439,7 @@ impl Frame {
             let s = frame.tangent(p).slip_after(before, &after);
             Some((b[0] * s[1] - b[1] * s[0], b[0] * s[0] + b[1] * s[1]))
         };
-        let ring: u32 = 48;
-        let step = std::f64::consts::TAU / f64::from(ring);
-        let samples: Vec<Option<(f64, f64)>> =
-            (0..=ring).map(|i| at(step * f64::from(i))).collect();
-        let mut best: Option<(f64, f64)> = None;
-        for i in 1..=ring {
-            let (Some((g0, _)), Some((g1, _))) = (samples[i as usize - 1], samples[i as usize])
-            else {
-                continue;
-            };
-            if g0 * g1 > 0.0 {
-                continue;
-            }
-            let angle = step * f64::from(i);
-            let (mut low, mut high, mut g_low) = (angle - step, angle, g0);
-            for _ in 0..64 {
-                let mid = 0.5 * (low + high);
-                if mid <= low || mid >= high {
-                    break;
-                }
-                let Some((g, _)) = at(mid) else { break };
-                if (g <= 0.0) == (g_low <= 0.0) {
-                    low = mid;
-                    g_low = g;
-                } else {
-                    high = mid;
-                }
-            }
-            let root = 0.5 * (low + high);
-            let Some((_, along)) = at(root) else { continue };
-            if along > 0.0 && best.is_none_or(|(_, a)| along > a) {
-                best = Some((root, along));
-            }
-        }
-        best.map(|(angle, _)| [angle.cos(), angle.sin()])
+        ring_root(&mut at, |along, _| along > 0.0)
     }
 
     /// The impact law with friction for the restitutions `e`, each contact approaching at the
@@ -1817,4 +1745,51 @@ fn illinois(
         }
     }
     Some(0.5 * (a + b))
+}
+
+/// The unit vector at the angle where `g` (the first of the pair `at` returns) vanishes and
+/// the second, `along`, is largest of those `accept(along, size)` takes (`size` the largest
+/// `|along|` around the ring): `g` sampled on a ring of 48 angles, each change of sign bisected
+/// to adjacent angles. `None` where no root is taken.
+fn ring_root(
+    at: &mut impl FnMut(f64) -> Option<(f64, f64)>,
+    accept: impl Fn(f64, f64) -> bool,
+) -> Option<[f64; 2]> {
+    let ring: u32 = 48;
+    let step = std::f64::consts::TAU / f64::from(ring);
+    let samples: Vec<Option<(f64, f64)>> = (0..=ring).map(|i| at(step * f64::from(i))).collect();
+    let size = samples
+        .iter()
+        .flatten()
+        .fold(0.0_f64, |m, &(_, a)| m.max(a.abs()));
+    let mut best: Option<(f64, f64)> = None;
+    for i in 1..=ring {
+        let (Some((g0, _)), Some((g1, _))) = (samples[i as usize - 1], samples[i as usize]) else {
+            continue;
+        };
+        if g0 * g1 > 0.0 {
+            continue;
+        }
+        let angle = step * f64::from(i);
+        let (mut low, mut high, mut g_low) = (angle - step, angle, g0);
+        for _ in 0..64 {
+            let mid = 0.5 * (low + high);
+            if mid <= low || mid >= high {
+                break;
+            }
+            let Some((g, _)) = at(mid) else { break };
+            if (g <= 0.0) == (g_low <= 0.0) {
+                low = mid;
+                g_low = g;
+            } else {
+                high = mid;
+            }
+        }
+        let root = 0.5 * (low + high);
+        let Some((_, along)) = at(root) else { continue };
+        if accept(along, size) && best.is_none_or(|(_, a)| along > a) {
+            best = Some((root, along));
+        }
+    }
+    best.map(|(angle, _)| [angle.cos(), angle.sin()])
 }
