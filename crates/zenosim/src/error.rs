@@ -171,9 +171,10 @@ pub enum Error {
         /// The constraints of the contact problem.
         constraints: Vec<String>,
     },
-    /// With contacts in space (two slip components, docs/friction.md), zenosim found no slip
-    /// directions that meet Coulomb's law: a limit of its solver for the isotropic cone.
-    #[error("at t = {}: friction in space at constraints {}: zenosim found no slip directions that meet Coulomb's law with the isotropic cone (a contact in space that sticks through an impact while another slips, or directions that did not settle). This is a limit of zenosim's solver for contacts in space, not a fault of the model; write each contact in a plane (one slip formula) where the motion allows", Readable(*t), quoted(constraints))]
+    /// With contacts in space (two slip components, docs/friction.md), zenosim's solver for
+    /// Coulomb's law with isotropic cones found no answer: a limit of the solver (Newton's
+    /// method, then Gauss–Seidel sweeps), or a problem with none.
+    #[error("at t = {}: friction in space at constraints {}: zenosim's solver found no impulses or forces that meet Coulomb's law with the isotropic cones at once (Newton's method on Alart and Curnier's equations did not converge from any start; docs/friction.md). The problem may have no answer (dependent contacts, or friction coefficients far above 1), or the solver failed on it; check the contacts' geometry and coefficients, or write a contact in a plane (one slip formula) where the motion allows", Readable(*t), quoted(constraints))]
     SpatialFriction {
         /// When.
         t: f64,

@@ -9,6 +9,7 @@
 use nalgebra::{DMatrix, DVector};
 use num_dual::Dual64;
 
+use crate::cone::{self, ring_root};
 use crate::execution::{ActiveSet, Grips};
 use crate::lcp;
 use crate::mechanics::{DynamicsError, Mechanics, Normal};
@@ -23,10 +24,6 @@ const SETTLE_SWEEPS: usize = 50;
 
 /// How many numbers [`Frame::scales`] keeps per contact.
 const SCALES: usize = 5;
-
-/// Turns of the slip directions of contacts in space through an impact by fixed point before
-/// they are bracketed instead.
-const IMPACT_SWEEPS: usize = 20;
 
 /// The slip of a contact at one state (docs/friction.md): `s`, its row `S = ∂s/∂q̇`, the part
 /// of `ṡ` that `q̈` does not give, `σ = (∂s/∂q) q̇ + ∂s/∂t`, and the size of `s`'s terms.
@@ -224,18 +221,6 @@ impl Tangent {
         }
     }
 
-    /// The vector with parts `main` along the basis and `cross` across it, in the model's
-    /// components (`(main, 0)` in a plane).
-    pub fn components(&self, main: f64, cross: f64) -> [f64; 2] {
-        match &self.space {
-            None => [main, 0.0],
-            Some(space) => {
-                let [b1, b2] = space.basis;
-                [b1 * main - b2 * cross, b2 * main + b1 * cross]
-            }
-        }
-    }
-
     /// The slip's components in the model's terms: the one in a plane, the two in space.
     pub fn components_slips(&self) -> impl Iterator<Item = &Slip> {
         let parts = self
@@ -246,16 +231,6 @@ impl Tangent {
             None => [&self.slip, &self.slip].into_iter().take(1),
             Some(parts) => parts.into_iter().take(2),
         }
-    }
-
-    /// The slip in the model's components after the velocities changed from `before` (the
-    /// frame's own) to `after`.
-    pub fn slip_after(&self, before: &[f64], after: &[f64]) -> [f64; 2] {
-        let mut out = [0.0; 2];
-        for (c, slip) in self.components_slips().enumerate() {
-            out[c] = slip.s + dot(&slip.row, after) - dot(&slip.row, before);
-        }
-        out
     }
 
     /// The part along `basis` of a contact in space becomes the main one (nothing in a plane).
@@ -289,22 +264,37 @@ fn lcp_error(set: ActiveSet, error: lcp::LcpError) -> DynamicsError {
 
 /// `x` with `g x = rhs` for a square `g` that may be singular where contacts are dependent
 /// (two corners of a block on one floor slip along the same direction: their sticking rows
-/// are equal): the least-squares solution of least norm (singular values below `1e-12` of
-/// the largest dropped), accepted where it solves the system to `1e-9` of its scale; `None`
-/// where the system is inconsistent or not finite.
+/// are equal). Where `g` is well conditioned (LU pivots within `10¹⁰` of each other), by LU
+/// with a step of iterative refinement: nalgebra's SVD can leave a residual of `10⁻⁹` of the
+/// terms there (a dumbbell turning on one end, its other end slipping nearly across its
+/// sticking rows). Otherwise the least-squares solution of least norm (singular values below
+/// `10⁻¹²` of the largest dropped). Accepted where it solves
+/// the system to `10⁻⁹` of its scale; `None` where the system is inconsistent or not finite.
 fn solve_least_norm(g: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVector<f64>> {
     if rhs.is_empty() {
         return Some(DVector::zeros(0));
+    }
+    let accept = |x: DVector<f64>| {
+        let residual = (g * &x - rhs).amax();
+        let scale = rhs.amax() + g.abs().column_sum().amax() * x.amax();
+        (x.iter().all(|v| v.is_finite()) && residual <= 1e-9 * scale).then_some(x)
+    };
+    let lu = g.clone().lu();
+    let pivots = lu.u().diagonal().abs();
+    if pivots.min() > 1e-10 * pivots.max() {
+        if let Some(mut x) = lu.solve(rhs) {
+            if let Some(correction) = lu.solve(&(rhs - g * &x)) {
+                x += correction;
+            }
+            return accept(x);
+        }
     }
     let svd = g.clone().svd(true, true);
     let largest = svd.singular_values.max();
     if !largest.is_finite() {
         return None;
     }
-    let x = svd.solve(rhs, 1e-12 * largest).ok()?;
-    let residual = (g * &x - rhs).amax();
-    let scale = rhs.amax() + g.abs().column_sum().amax() * x.amax();
-    (x.iter().all(|v| v.is_finite()) && residual <= 1e-9 * scale).then_some(x)
+    accept(svd.solve(rhs, 1e-12 * largest).ok()?)
 }
 
 /// Why the contact problem with friction has no answer.
@@ -730,8 +720,8 @@ impl Frame {
 
     /// The direction in which the contact in space at position `p`, at rest, slips in the
     /// states `grips` (the others as they are): the unit vector `b` at which, the kinetic force
-    /// along `−b` and the slip across `b` held, the force across is 0 and the slip's
-    /// acceleration along `b` is not negative (to `10⁻⁸` of its size around the ring: at the
+    /// along `−b` (and none across), the slip's acceleration has no part across `b` and its
+    /// part along `b` is not negative (to `10⁻⁸` of its size around the ring: at the
     /// onset of a slip with `μₛ = μₖ` it is 0). Bracketed on a ring of angles, then bisected to
     /// rounding; of several, the one the slip accelerates along most. `None` where there is
     /// none.
@@ -746,10 +736,12 @@ impl Frame {
         let mut at = |angle: f64| -> Option<(f64, f64)> {
             let basis = [angle.cos(), angle.sin()];
             frame.tangents[p].as_mut()?.rotate(basis);
-            let forces = frame.forces_held(set, grips, &[p]).ok()?;
+            let forces = frame.forces_held(set, grips, &[]).ok()?;
             let t = frame.tangent(p);
             let along = dot(&t.slip.row, &forces.q_ddot) + t.slip.sigma;
-            Some((forces.cross[p], along))
+            let cross = &t.space.as_ref()?.cross;
+            let across = dot(&cross.slip.row, &forces.q_ddot) + cross.slip.sigma;
+            Some((across, along))
         };
         // First near the guess: a bracket of ±0.05 rad closed by the Illinois method (the
         // force across is smooth in the angle).
@@ -1016,40 +1008,160 @@ impl Frame {
         if let Some(decision) = self.all_held(set, &at_rest) {
             return Ok(decision);
         }
-        // Contacts in space at rest enter the LCP along the direction against the force that
-        // would hold them all sticking (the slip across that direction then needs no force: it
-        // stays 0); where one slips, the held motion finds the exact direction it slips in
-        // from rest (`Frame::settled`).
-        let in_space: Vec<usize> = at_rest
-            .iter()
-            .copied()
-            .filter(|&p| self.tangent(p).space.is_some())
-            .collect();
-        if in_space.is_empty() {
-            return self.decide_lcp(set, &at_rest);
+        // With a contact in space at rest, Coulomb's law with the isotropic cones, exactly.
+        let in_space = at_rest.iter().any(|&p| self.tangent(p).space.is_some());
+        if in_space {
+            self.decide_cone(set, &at_rest)
+        } else {
+            self.decide_lcp(set, &at_rest)
         }
-        let mut frame = self.clone();
-        let all_stick = at_rest
-            .iter()
-            .fold(ActiveSet::empty(), |a, &p| a.with(self.indices[p]));
-        let held = self.forces_held(
-            set,
-            Grips {
-                stick: all_stick,
-                ..Grips::none()
-            },
-            &[],
-        );
-        for &p in &in_space {
-            let t = frame.tangents[p]
-                .as_mut()
-                .expect("a contact in space has friction");
-            let against = held.as_ref().map_or([-1.0, 0.0], |f| f.components(p, t));
-            if against[0].hypot(against[1]) > 0.0 {
-                t.rotate([-against[0], -against[1]]);
+    }
+
+    /// Law 1 with contacts in space ([`crate::cone`], at the level of accelerations): the
+    /// contacts at positions `candidates` (at rest) with their cones, one or two slip
+    /// components, the static coefficient first and the kinetic one where it then slips and is
+    /// lower; the others with friction slip on, their kinetic force in their normal columns.
+    /// A contact holds where its normal acceleration is 0 (to rounding); a candidate that holds
+    /// sticks where its slip's acceleration is 0, and otherwise slips (in space, from rest, in
+    /// the direction [`Frame::settled`] finds; that is the direction of its acceleration here).
+    fn decide_cone(&self, set: ActiveSet, candidates: &[usize]) -> Result<Decision, DynamicsError> {
+        let k = self.len();
+        let n = self.n;
+        // Each row with its column (`M⁻¹` applied), right-hand side and rounding.
+        let mut rows: Vec<&[f64]> = Vec::new();
+        let mut columns: Vec<Vec<f64>> = Vec::new();
+        let mut q = Vec::new();
+        let mut round_off = Vec::new();
+        let mut contacts = Vec::with_capacity(k);
+        for p in 0..k {
+            let start = rows.len();
+            rows.push(self.row(p));
+            let mut column = self.direction(p).to_vec();
+            q.push(self.normals[p].h_ddot_free);
+            round_off.push(self.normals[p].h_ddot_round_off);
+            let candidate = candidates.contains(&p);
+            let mut tangents = 0;
+            if let Some(t) = &self.tangents[p] {
+                if candidate {
+                    let parts: Vec<&Part> = match &t.space {
+                        None => Vec::new(),
+                        Some(space) => space.parts.iter().collect(),
+                    };
+                    if parts.is_empty() {
+                        columns.push(column);
+                        rows.push(&t.slip.row);
+                        column = t.direction.clone();
+                        q.push(t.s_dot_free);
+                        round_off.push(t.s_dot_round_off);
+                        tangents = 1;
+                    } else {
+                        for part in parts {
+                            columns.push(column);
+                            rows.push(&part.slip.row);
+                            column = part.direction.clone();
+                            q.push(part.s_dot_free);
+                            round_off.push(part.s_dot_round_off);
+                            tangents += 1;
+                        }
+                    }
+                } else {
+                    // Slipping on: `fₜ = −μₖ fₙ` along its slip (in space the basis runs
+                    // along it).
+                    let sign = if t.slip.s < 0.0 && t.space.is_none() {
+                        -1.0
+                    } else {
+                        1.0
+                    };
+                    for (c, d) in column.iter_mut().zip(&t.direction) {
+                        *c -= t.mu_kinetic * sign * d;
+                    }
+                }
+            }
+            columns.push(column);
+            contacts.push(cone::Contact {
+                start,
+                tangents,
+                mu: self.tangents[p].as_ref().map_or(0.0, |t| t.mu_static),
+            });
+        }
+        debug_assert!(columns.iter().all(|c| c.len() == n));
+        let size = rows.len();
+        let w = DMatrix::from_fn(size, size, |r, c| dot(rows[r], &columns[c]));
+        let q = DVector::from_fn(size, |r, _| {
+            if q[r].abs() <= round_off[r] {
+                0.0
+            } else {
+                q[r]
+            }
+        });
+        let mut solved = None;
+        for _ in 0..=k {
+            let forces = cone::solve(&w, &q, &contacts).map_err(|error| match error {
+                cone::ConeError::NonFinite => DynamicsError::NonFinite,
+                cone::ConeError::NoConvergence { .. } => {
+                    DynamicsError::SpatialFriction { constraints: set }
+                }
+            })?;
+            let accelerations = &q + &w * &forces;
+            let rounding = |r: usize| {
+                round_off[r]
+                    + ROUND_OFF
+                        * (0..size)
+                            .map(|c| (w[(r, c)] * forces[c]).abs())
+                            .sum::<f64>()
+            };
+            let mut changed = false;
+            for (p, c) in contacts.iter_mut().enumerate() {
+                let Some(t) = &self.tangents[p] else { continue };
+                let slip = accelerations.rows_range(c.start + 1..=c.start + c.tangents);
+                let round: f64 = (c.start + 1..=c.start + c.tangents).map(rounding).sum();
+                if c.tangents > 0
+                    && c.mu > t.mu_kinetic
+                    && forces[c.start] > 0.0
+                    && slip.norm() > round
+                {
+                    c.mu = t.mu_kinetic;
+                    changed = true;
+                }
+            }
+            if !changed {
+                let rounds: Vec<f64> = (0..size).map(rounding).collect();
+                solved = Some((accelerations, rounds));
+                break;
             }
         }
-        frame.decide_lcp(set, &at_rest)
+        let (accelerations, rounds) =
+            solved.ok_or(DynamicsError::SpatialFriction { constraints: set })?;
+        let mut held = ActiveSet::empty();
+        let mut grips = Grips::none();
+        for (p, c) in contacts.iter().enumerate() {
+            let index = self.indices[p];
+            if accelerations[c.start] > rounds[c.start] {
+                continue;
+            }
+            held = held.with(index);
+            let Some(t) = &self.tangents[p] else { continue };
+            if c.tangents == 0 {
+                // Slipping on, in its slip's direction.
+                if t.slip.s < 0.0 && t.space.is_none() {
+                    grips.backward = grips.backward.with(index);
+                } else {
+                    grips.forward = grips.forward.with(index);
+                }
+                continue;
+            }
+            let range = c.start + 1..=c.start + c.tangents;
+            let slip = accelerations.rows_range(range.clone());
+            let round: f64 = range.map(|r| rounds[r]).sum();
+            if slip.norm() <= round {
+                grips.stick = grips.stick.with(index);
+            } else if t.space.is_some() || slip[0] > 0.0 {
+                grips.forward = grips.forward.with(index);
+            } else {
+                grips.backward = grips.backward.with(index);
+            }
+        }
+        Ok(Decision { held, grips })
     }
 
     /// Law 1's LCP (Pfeiffer and Glocker) with the contacts at positions `candidates` free to
@@ -1295,151 +1407,128 @@ impl Frame {
         approach: &[f64],
         q_dot: &mut [f64],
     ) -> Result<(Vec<f64>, Vec<[f64; 2]>), DynamicsError> {
-        let in_space: Vec<usize> = (0..self.len())
-            .filter(|&p| self.tangents[p].as_ref().is_some_and(|t| t.space.is_some()))
-            .collect();
-        if in_space.is_empty() {
-            let (normal, tangent) = self.impact_with(set, e, approach, q_dot, &[])?;
-            return Ok((normal, tangent.iter().map(|&f| [f, 0.0]).collect()));
+        let in_space = self
+            .tangents
+            .iter()
+            .any(|t| t.as_ref().is_some_and(|t| t.space.is_some()));
+        if in_space {
+            return self.impact_in_space(set, e, approach, q_dot);
         }
-        self.impact_in_space(set, e, approach, q_dot, &in_space)
+        let (normal, tangent) = self.impact_with(set, e, approach, q_dot)?;
+        Ok((normal, tangent.iter().map(|&f| [f, 0.0]).collect()))
     }
 
-    /// The impact law with friction where the contacts at `in_space` are in space: every
-    /// contact sticks through the impact where the impulses that takes push and lie within the
-    /// static cones (the isotropic ones); otherwise those in space slide at the kinetic
-    /// coefficient against their slip after the impact, whose direction is found by fixed
-    /// point (from the slip before), the others as [`Frame::impact_with`] decides.
+    /// The impact law with friction where some contacts are in space: Coulomb's law with the
+    /// isotropic cones, exactly, on every contact at once ([`crate::cone`]), the static
+    /// coefficients first; contacts that slide with a kinetic coefficient below the static are
+    /// solved again with it, until none is added. `q̇` updated; the normal impulses and the
+    /// tangential ones in the model's slip components.
     fn impact_in_space(
         &self,
         set: ActiveSet,
         e: &[f64],
         approach: &[f64],
         q_dot: &mut [f64],
-        in_space: &[usize],
     ) -> Result<(Vec<f64>, Vec<[f64; 2]>), DynamicsError> {
         let k = self.len();
-        let before = q_dot.to_vec();
-        let stick = (0..k)
-            .filter(|&p| self.tangents[p].is_some())
-            .fold(ActiveSet::empty(), |a, p| a.with(self.indices[p]));
-        let normal_rhs: Vec<f64> = (0..k).map(|r| (1.0 + e[r]) * approach[r]).collect();
-        let mu = self.project_rows(set, stick, &normal_rhs, q_dot)?;
-        // The impulses are −μ: normal ones first, then each contact's tangential parts.
-        let mut normal = vec![0.0; k];
-        let mut tangent = vec![[0.0; 2]; k];
-        let mut within = true;
-        let mut u = k;
+        // The rows: each contact's normal one, then its slip components; with `M⁻¹` applied.
+        let mut rows: Vec<(&[f64], &[f64])> = Vec::new();
+        let mut q = Vec::new();
+        let mut round_off = Vec::new();
+        let mut contacts = Vec::with_capacity(k);
         for p in 0..k {
-            normal[p] = -mu[p];
-            let round = ROUND_OFF * mu[p].abs();
-            within &= normal[p] >= -round;
-            let Some(t) = &self.tangents[p] else { continue };
-            let main = -mu[u];
-            u += 1;
-            let cross = if t.space.is_some() {
-                u += 1;
-                -mu[u - 1]
-            } else {
-                0.0
+            let start = rows.len();
+            rows.push((self.row(p), self.direction(p)));
+            let terms: f64 = self
+                .row(p)
+                .iter()
+                .zip(q_dot.iter())
+                .map(|(a, v)| (a * v).abs())
+                .sum();
+            q.push((1.0 + e[p]) * approach[p]);
+            round_off.push(ROUND_OFF * (1.0 + e[p]) * (terms + approach[p].abs()));
+            let tangents = match &self.tangents[p] {
+                None => 0,
+                Some(t) => {
+                    let parts: Vec<(&Slip, &[f64])> = match &t.space {
+                        None => vec![(&t.slip, &t.direction)],
+                        Some(space) => space
+                            .parts
+                            .iter()
+                            .map(|part| (&part.slip, part.direction.as_slice()))
+                            .collect(),
+                    };
+                    for &(slip, direction) in &parts {
+                        rows.push((&slip.row, direction));
+                        q.push(slip.s);
+                        round_off.push(ROUND_OFF * slip.scale);
+                    }
+                    parts.len()
+                }
             };
-            let size = main.hypot(cross);
-            within &=
-                size <= t.mu_static * normal[p].max(0.0) + ROUND_OFF * (size + normal[p].abs());
-            tangent[p] = t.components(main, cross);
+            contacts.push(cone::Contact {
+                start,
+                tangents,
+                mu: self.tangents[p].as_ref().map_or(0.0, |t| t.mu_static),
+            });
         }
-        if within {
+        let size = rows.len();
+        let w = DMatrix::from_fn(size, size, |r, c| dot(rows[r].0, rows[c].1));
+        // Each right-hand side within the rounding of what it is made of is 0.
+        let q = DVector::from_fn(size, |r, _| {
+            if q[r].abs() <= round_off[r] {
+                0.0
+            } else {
+                q[r]
+            }
+        });
+        let before = q_dot.to_vec();
+        for _ in 0..=k {
+            let impulses = cone::solve(&w, &q, &contacts).map_err(|error| match error {
+                cone::ConeError::NonFinite => DynamicsError::NonFinite,
+                cone::ConeError::NoConvergence { .. } => {
+                    DynamicsError::SpatialFriction { constraints: set }
+                }
+            })?;
+            let velocities = &q + &w * &impulses;
+            // Contacts that slide at the static coefficient, with a kinetic one below it.
+            let mut changed = false;
+            for (p, c) in contacts.iter_mut().enumerate() {
+                let Some(t) = &self.tangents[p] else { continue };
+                let slip = velocities.rows_range(c.start + 1..=c.start + c.tangents);
+                let scale: f64 = t.components_slips().map(|s| s.scale).sum();
+                if c.mu > t.mu_kinetic && slip.norm() > ROUND_OFF * scale && impulses[c.start] > 0.0
+                {
+                    c.mu = t.mu_kinetic;
+                    changed = true;
+                }
+            }
+            if changed {
+                continue;
+            }
+            q_dot.copy_from_slice(&before);
+            for (r, &(_, direction)) in rows.iter().enumerate() {
+                for (v, d) in q_dot.iter_mut().zip(direction) {
+                    *v += impulses[r] * d;
+                }
+            }
+            if !q_dot.iter().all(|v| v.is_finite()) {
+                return Err(DynamicsError::NonFinite);
+            }
+            let normal: Vec<f64> = contacts.iter().map(|c| impulses[c.start]).collect();
+            let tangent: Vec<[f64; 2]> = contacts
+                .iter()
+                .map(|c| {
+                    let mut out = [0.0; 2];
+                    for a in 0..c.tangents {
+                        out[a] = impulses[c.start + 1 + a];
+                    }
+                    out
+                })
+                .collect();
             return Ok((normal, tangent));
         }
-        let mut frame = self.clone();
-        for _ in 0..IMPACT_SWEEPS {
-            q_dot.copy_from_slice(&before);
-            let (normal, main) = frame.impact_with(set, e, approach, q_dot, in_space)?;
-            let mut tangent = vec![[0.0; 2]; k];
-            for p in 0..k {
-                if let Some(t) = &frame.tangents[p] {
-                    tangent[p] = t.components(main[p], 0.0);
-                }
-            }
-            let mut change = 0.0_f64;
-            for &p in in_space {
-                let t = frame.tangents[p]
-                    .as_mut()
-                    .expect("a contact in space has friction");
-                let after = t.slip_after(&before, q_dot);
-                let size = after[0].hypot(after[1]);
-                let scale = t.slip.scale + t.space.as_ref().map_or(0.0, |s| s.cross.slip.scale);
-                if size <= ROUND_OFF * scale {
-                    // It would stick while others slide: not solved here.
-                    return Err(DynamicsError::SpatialFriction { constraints: set });
-                }
-                let old = t.space.as_ref().map_or([1.0, 0.0], |s| s.basis);
-                let new = [after[0] / size, after[1] / size];
-                change = change.max((new[0] - old[0]).hypot(new[1] - old[1]));
-                t.rotate(new);
-            }
-            if change <= 1e-13 {
-                return Ok((normal, tangent));
-            }
-        }
-        // The fixed point turns round where the response is anisotropic (`S M⁻¹ Sᵀ` not a
-        // multiple of the identity): each direction found on a ring of angles instead, contact
-        // by contact, until they agree.
-        for _ in 0..SETTLE_SWEEPS {
-            let mut change = 0.0_f64;
-            for &p in in_space {
-                let new = frame
-                    .impact_direction(set, e, approach, &before, in_space, p)
-                    .ok_or(DynamicsError::SpatialFriction { constraints: set })?;
-                let t = frame.tangents[p]
-                    .as_mut()
-                    .expect("a contact in space has friction");
-                let old = t.space.as_ref().map_or([1.0, 0.0], |s| s.basis);
-                change = change.max((new[0] - old[0]).hypot(new[1] - old[1]));
-                t.rotate(new);
-            }
-            if in_space.len() == 1 || change <= 1e-13 {
-                q_dot.copy_from_slice(&before);
-                let (normal, main) = frame.impact_with(set, e, approach, q_dot, in_space)?;
-                let mut tangent = vec![[0.0; 2]; k];
-                for p in 0..k {
-                    if let Some(t) = &frame.tangents[p] {
-                        tangent[p] = t.components(main[p], 0.0);
-                    }
-                }
-                return Ok((normal, tangent));
-            }
-        }
         Err(DynamicsError::SpatialFriction { constraints: set })
-    }
-
-    /// The direction the contact in space at position `p` slides in after an impact (the
-    /// others of `in_space` along their bases): the unit vector `b` at which, sliding along
-    /// `b` at the kinetic coefficient, its slip after the impact runs along `b` (no part
-    /// across, and a positive one along). Bracketed on a ring of angles, then bisected to
-    /// rounding; `None` where there is none.
-    fn impact_direction(
-        &self,
-        set: ActiveSet,
-        e: &[f64],
-        approach: &[f64],
-        before: &[f64],
-        in_space: &[usize],
-        p: usize,
-    ) -> Option<[f64; 2]> {
-        let mut frame = self.clone();
-        let mut after = before.to_vec();
-        let mut at = |angle: f64| -> Option<(f64, f64)> {
-            let b = [angle.cos(), angle.sin()];
-            frame.tangents[p].as_mut()?.rotate(b);
-            after.copy_from_slice(before);
-            frame
-                .impact_with(set, e, approach, &mut after, in_space)
-                .ok()?;
-            let s = frame.tangent(p).slip_after(before, &after);
-            Some((b[0] * s[1] - b[1] * s[0], b[0] * s[0] + b[1] * s[1]))
-        };
-        ring_root(&mut at, |along, _| along > 0.0)
     }
 
     /// The impact law with friction for the restitutions `e`, each contact approaching at the
@@ -1452,18 +1541,12 @@ impl Frame {
         e: &[f64],
         approach: &[f64],
         q_dot: &mut [f64],
-        preset: &[usize],
     ) -> Result<(Vec<f64>, Vec<f64>), DynamicsError> {
         let k = self.len();
         let n = self.n;
         let before = q_dot.to_vec();
         // Contacts fixed to slip at the kinetic coefficient, with their direction.
         let mut sliding: Vec<f64> = vec![0.0; k];
-        // Those of `preset` slide forwards along their basis (in space, [`Frame::impact_in_space`]
-        // turns the basis until the slip after the impact runs along it).
-        for &p in preset {
-            sliding[p] = 1.0;
-        }
         // Each pass only moves contacts from the static cone to sliding: k + 1 passes suffice.
         for _ in 0..=k {
             let candidates: Vec<usize> = (0..k)
@@ -1529,7 +1612,7 @@ impl Frame {
                     // The slip it was fixed to must still run that way after the impact.
                     let s0 = t.slip.s - dot(&t.slip.row, &before);
                     let s_after = dot(&t.slip.row, q_dot) + s0;
-                    if sliding[p] * s_after < -ROUND_OFF * t.slip.scale && !preset.contains(&p) {
+                    if sliding[p] * s_after < -ROUND_OFF * t.slip.scale {
                         return Err(paradox(set));
                     }
                     continue;
@@ -1745,51 +1828,4 @@ fn illinois(
         }
     }
     Some(0.5 * (a + b))
-}
-
-/// The unit vector at the angle where `g` (the first of the pair `at` returns) vanishes and
-/// the second, `along`, is largest of those `accept(along, size)` takes (`size` the largest
-/// `|along|` around the ring): `g` sampled on a ring of 48 angles, each change of sign bisected
-/// to adjacent angles. `None` where no root is taken.
-fn ring_root(
-    at: &mut impl FnMut(f64) -> Option<(f64, f64)>,
-    accept: impl Fn(f64, f64) -> bool,
-) -> Option<[f64; 2]> {
-    let ring: u32 = 48;
-    let step = std::f64::consts::TAU / f64::from(ring);
-    let samples: Vec<Option<(f64, f64)>> = (0..=ring).map(|i| at(step * f64::from(i))).collect();
-    let size = samples
-        .iter()
-        .flatten()
-        .fold(0.0_f64, |m, &(_, a)| m.max(a.abs()));
-    let mut best: Option<(f64, f64)> = None;
-    for i in 1..=ring {
-        let (Some((g0, _)), Some((g1, _))) = (samples[i as usize - 1], samples[i as usize]) else {
-            continue;
-        };
-        if g0 * g1 > 0.0 {
-            continue;
-        }
-        let angle = step * f64::from(i);
-        let (mut low, mut high, mut g_low) = (angle - step, angle, g0);
-        for _ in 0..64 {
-            let mid = 0.5 * (low + high);
-            if mid <= low || mid >= high {
-                break;
-            }
-            let Some((g, _)) = at(mid) else { break };
-            if (g <= 0.0) == (g_low <= 0.0) {
-                low = mid;
-                g_low = g;
-            } else {
-                high = mid;
-            }
-        }
-        let root = 0.5 * (low + high);
-        let Some((_, along)) = at(root) else { continue };
-        if accept(along, size) && best.is_none_or(|(_, a)| along > a) {
-            best = Some((root, along));
-        }
-    }
-    best.map(|(angle, _)| [angle.cos(), angle.sin()])
 }

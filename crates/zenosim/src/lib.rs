@@ -38,6 +38,7 @@
 //!   closed forms, written in Rust.
 
 mod compiled;
+mod cone;
 mod contact;
 mod derivatives;
 mod derived;

@@ -48,8 +48,8 @@ pub(crate) enum DynamicsError {
     /// Painlevé's paradox: the frictional contact problem on a set has no solution or several.
     #[error("Painlevé's paradox on {constraints:?}")]
     Painleve { constraints: ActiveSet },
-    /// With contacts in space, zenosim found no slip directions that meet Coulomb's law.
-    #[error("no consistent slip directions in space on {constraints:?}")]
+    /// With contacts in space, the cone solver found no answer that meets Coulomb's law.
+    #[error("no answer of Coulomb's law with isotropic cones on {constraints:?}")]
     SpatialFriction { constraints: ActiveSet },
     /// Newton's method did not bring `h` to zero.
     #[error("the projection onto constraint {constraint} left |h| = {residual}")]
