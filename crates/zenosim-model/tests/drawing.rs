@@ -553,7 +553,7 @@ fn every_shipped_model_draws_every_constraint() {
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .collect();
     files.sort();
-    assert_eq!(files.len(), 24, "{files:?}");
+    assert_eq!(files.len(), 25, "{files:?}");
     let mut checked_on_surface = 0;
     for path in &files {
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();

@@ -1419,6 +1419,20 @@ fn random_frictional_model(k: usize, u: &[f64; 8]) -> (&'static str, Vec<(&'stat
                 ("th0", between(u[1], 0.1, 1.4)),
             ],
         ),
+        7 => (
+            "dumbbell-landing.toml",
+            vec![
+                ("mu", between(u[0], 0.0, 1.5)),
+                ("e", between(u[1], 0.0, 0.9)),
+                ("u", between(u[2], -2.0, 2.0)),
+                ("v", between(u[3], -2.0, 2.0)),
+                ("w", between(u[4], -5.0, 5.0)),
+                // Tilted by up to 0.3 rad (one end lands first), from high enough.
+                ("h", between(u[5], 0.31, 0.6)),
+                ("th", between(u[6], -0.3, 0.3)),
+                ("th_dot", between(u[7], -2.0, 2.0)),
+            ],
+        ),
         _ => (
             "sphere-slide-spin.toml",
             vec![
@@ -1449,7 +1463,7 @@ fn random_frictional_models() {
         ..Config::default()
     };
     let mut runner = TestRunner::new(config);
-    let strategy = (0usize..7, prop::array::uniform8(0.0..1.0f64));
+    let strategy = (0usize..8, prop::array::uniform8(0.0..1.0f64));
     let result = runner.run(&strategy, |(k, u)| {
         let (name, values) = random_frictional_model(k, &u);
         let overrides: Vec<zenosim_model::Override> = values
