@@ -10,7 +10,12 @@
 //!   through a symlink planted under that name), synced, and renamed once complete; the
 //!   directory is synced after the renames. A run renames its files only at its very end, so a
 //!   run killed midway leaves the previous run's files as they were, and a temporary file that
-//!   the next command writing into the directory removes.
+//!   the next command writing into the directory removes (only names of that form: another
+//!   program's `.thesis.docx.partial` is not zenosim's to remove).
+//! - **Only regular files are replaced.** A final name that is a directory, a FIFO, a device
+//!   or a socket is refused before anything is written (`--out /dev/null` would otherwise
+//!   replace the device by a file, for a command run as root); a symlink there is replaced
+//!   itself, never followed.
 //! - **Files that belong together appear together.** A run's files replace the previous ones
 //!   by renames back to back ([`OutputDir::replace`]): the old `summary.json` is moved aside,
 //!   the trajectory and the new summary renamed into place, and only then is the directory
@@ -151,6 +156,7 @@ impl OutputDir {
     /// Starts writing the file `name`, under a temporary name of its own, created exclusively.
     pub fn create(&self, name: &str) -> anyhow::Result<(PartialFile, File)> {
         let target = self.dir.join(name);
+        replaceable(&target)?;
         let (partial, registered, file) = loop {
             let n = NEXT_PARTIAL.fetch_add(1, Ordering::Relaxed);
             let partial = self.dir.join(partial_name(name, n));
@@ -203,12 +209,67 @@ impl OutputDir {
         for entry in entries.flatten() {
             let name = entry.file_name();
             let Some(name) = name.to_str() else { continue };
-            if name.starts_with('.') && name.ends_with(".partial") && !name.contains(&ours) {
+            if is_ours(name) && !name.contains(&ours) {
                 // `remove_file` removes a symlink itself, never what it points to.
                 let _ = fs::remove_file(entry.path());
             }
         }
     }
+}
+
+/// Whether `name` is of the form zenosim gives its temporary files, `.<name>.<pid>-<n>.partial`
+/// ([`partial_name`]).
+fn is_ours(name: &str) -> bool {
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    name.strip_prefix('.')
+        .and_then(|n| n.strip_suffix(".partial"))
+        .and_then(|stem| stem.rsplit_once('.'))
+        .and_then(|(file, tag)| Some((file, tag.split_once('-')?)))
+        .is_some_and(|(file, (pid, n))| !file.is_empty() && digits(pid) && digits(n))
+}
+
+/// An error unless `target` is absent, a regular file or a symlink: what a rename may replace.
+fn replaceable(target: &Path) -> anyhow::Result<()> {
+    let Ok(meta) = fs::symlink_metadata(target) else {
+        return Ok(());
+    };
+    let kind = meta.file_type();
+    if kind.is_file() || kind.is_symlink() {
+        return Ok(());
+    }
+    let what = if kind.is_dir() {
+        "a directory"
+    } else {
+        special_kind(&kind)
+    };
+    Err(anyhow!(
+        "cannot write {}: it exists and is {what}, not a regular file; zenosim writes a file by \
+         replacing it whole, which it does only to regular files: choose another path",
+        target.display()
+    ))
+}
+
+/// What a file that is neither a regular file, a directory nor a symlink is.
+#[cfg(unix)]
+fn special_kind(kind: &fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if kind.is_fifo() {
+        "a FIFO"
+    } else if kind.is_char_device() {
+        "a character device"
+    } else if kind.is_block_device() {
+        "a block device"
+    } else if kind.is_socket() {
+        "a socket"
+    } else {
+        "a special file"
+    }
+}
+
+/// What a file that is neither a regular file, a directory nor a symlink is.
+#[cfg(not(unix))]
+fn special_kind(_: &fs::FileType) -> &'static str {
+    "a special file"
 }
 
 /// The directory and the file name of `path` (`.` for a bare name): where a command writing one
@@ -341,6 +402,8 @@ impl PartialFile {
     fn rename(&mut self) -> anyhow::Result<()> {
         #[cfg(test)]
         tests::trace(format!("rename {}", self.target.display()));
+        // Checked again: the name may have been taken since the file was created.
+        replaceable(&self.target)?;
         fs::rename(&self.partial, &self.target).with_context(|| {
             format!(
                 "cannot rename {} to {}",

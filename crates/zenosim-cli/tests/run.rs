@@ -563,9 +563,10 @@ fn the_output_cap_stops_the_run_keeping_its_rows_and_saying_what_to_do() {
 
 /// Regression: a symlink planted in the output directory under the temporary name
 /// (`.trajectory.csv.partial -> ~/anything`) made the run overwrite its target with the
-/// user's rights. Temporary files are now created exclusively under names of their own, a
-/// stale one is removed (the link, never its target), and a symlink under a final name is
-/// replaced by the file, not written through.
+/// user's rights. Temporary files are now created exclusively under names of their own
+/// (`.<name>.<pid>-<n>.partial`), one of that form left stale is removed (the link, never its
+/// target), one of another form is left alone, and a symlink under a final name is replaced by
+/// the file, not written through.
 #[cfg(unix)]
 #[test]
 fn symlinks_planted_in_the_output_directory_are_never_followed() {
@@ -576,7 +577,8 @@ fn symlinks_planted_in_the_output_directory_are_never_followed() {
     std::fs::write(&victim, "precious").unwrap();
     for name in [
         ".trajectory.csv.partial",
-        ".summary.json.partial",
+        ".trajectory.csv.4000000-0.partial",
+        ".summary.json.4000000-1.partial",
         "trajectory.csv",
     ] {
         std::os::unix::fs::symlink(&victim, out.join(name)).unwrap();
@@ -585,7 +587,12 @@ fn symlinks_planted_in_the_output_directory_are_never_followed() {
     assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
     assert_eq!(
         files(&out),
-        ["model.toml", "summary.json", "trajectory.csv"]
+        [
+            ".trajectory.csv.partial",
+            "model.toml",
+            "summary.json",
+            "trajectory.csv"
+        ]
     );
     let csv = std::fs::symlink_metadata(out.join("trajectory.csv")).unwrap();
     assert!(csv.file_type().is_file());

@@ -576,3 +576,49 @@ fn hostile_sizes_truncated_parts_and_bad_outputs_are_refused_at_once() {
     assert!(map.status.code().is_some());
     assert!(s.path("y.svg").exists());
 }
+
+/// `--out` naming a FIFO: `sweep` and `merge` renamed their file over it, replacing the FIFO
+/// (as root, `--out /dev/null` replaced the device by a regular file). A final name that is
+/// not a regular file (nor a symlink, which is replaced, never followed) is now refused before
+/// anything runs, and left as it was; a directory too.
+#[cfg(unix)]
+#[test]
+fn an_out_that_is_a_fifo_or_a_directory_is_refused_and_left_alone() {
+    use std::os::unix::fs::FileTypeExt;
+    let s = Scratch::new(BALL);
+    let fifo = s.path("pipe.csv");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    assert!(made.is_ok_and(|status| status.success()), "mkfifo");
+    std::fs::create_dir(s.path("folder.csv")).unwrap();
+    assert_exit(&sweep(&s, &["--shard", "1/1", "--out", "part.csv"]), 0);
+    for (target, kind) in [("pipe.csv", "a FIFO"), ("folder.csv", "a directory")] {
+        for command in [
+            sweep(&s, &["--out", target]),
+            s.zenosim(&["merge", "part.csv", "--out", target]),
+        ] {
+            assert_exit(&command, 1);
+            let error = stderr(&command);
+            assert!(error.contains(target) && error.contains(kind), "{error}");
+        }
+    }
+    assert!(std::fs::symlink_metadata(&fifo)
+        .unwrap()
+        .file_type()
+        .is_fifo());
+    assert!(s.path("folder.csv").is_dir());
+}
+
+/// Every writing command removed any `.*.partial` file in its output folder, another
+/// program's `.thesis.docx.partial` included. Only names of zenosim's own form,
+/// `.<name>.<pid>-<n>.partial`, are its stale temporary files now.
+#[test]
+fn another_programs_partial_files_are_left_alone() {
+    let s = Scratch::new(BALL);
+    let theirs = s.path(".thesis.docx.partial");
+    std::fs::write(&theirs, "chapter 1").unwrap();
+    let stale = s.path(".sweep.csv.4000000-7.partial");
+    std::fs::write(&stale, "a killed sweep's rows").unwrap();
+    assert_exit(&sweep(&s, &["--out", "sweep.csv"]), 0);
+    assert_eq!(std::fs::read_to_string(&theirs).unwrap(), "chapter 1");
+    assert!(!stale.exists());
+}

@@ -167,3 +167,11 @@ def test_a_sweep_of_initial_values_alone_equals_single_runs():
         for k, name in enumerate(model.coordinates):
             assert table[f"final_{name}"][i] == run.final["q"][k]
             assert table[f"final_{name}_dot"][i] == run.final["q_dot"][k]
+
+
+def test_a_varied_name_that_is_also_a_result_column_is_refused(tmp_path):
+    # A parameter named `status` was swept, and the table's results replaced its values.
+    model = tmp_path / "ball.toml"
+    model.write_text(BALL.read_text().replace("h0 = 1.0", "h0 = 1.0\nstatus = 2.0"))
+    with pytest.raises(ValueError, match="`status` is varied, but the sweep's table also has"):
+        zenosim.sweep(model, {"status": [1.0, 2.0]})

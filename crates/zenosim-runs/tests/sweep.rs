@@ -327,3 +327,56 @@ fn a_cancelled_sweep_keeps_the_rows_it_made() {
     assert_eq!(row.t_final, 0.0);
     assert!(row.message.starts_with("interrupted at t = 0"), "{row:?}");
 }
+
+/// Parameters may be named like the table's result columns (`status`, `impacts`, `t_final`,
+/// `final_<coordinate>`, `index`, `message`, `t_zeno`): sweeping one wrote two columns of that
+/// name (pandas read the second as `status.1`), and Python's table replaced the swept values
+/// by the results. A varied name that clashes with a result column is now refused, naming it.
+#[test]
+fn a_varied_name_that_is_also_a_result_column_is_refused() {
+    for name in [
+        "status",
+        "impacts",
+        "t_zeno",
+        "t_switch",
+        "t_final",
+        "final_y",
+        "final_y_dot",
+        "index",
+        "message",
+    ] {
+        let model = source(BALL).replace("h0 = 1.0", &format!("h0 = 1.0\n{name} = 2.0"));
+        let points = Points::new(vec![axis(&format!("{name}=1,2"))], Combine::Product).unwrap();
+        let error = Sweep::new(
+            "ball.toml",
+            &model,
+            Default::default(),
+            points,
+            RunSettings::default(),
+        )
+        .err()
+        .unwrap_or_else(|| panic!("`{name}` was accepted"));
+        assert!(
+            matches!(&error, SweepError::ColumnClash { name: n, .. } if n == name),
+            "{name}: {error}"
+        );
+        let message = error.to_string();
+        assert!(
+            message.contains(&format!("`{name}`"))
+                && message.contains("ball.toml")
+                && message.contains("Rename"),
+            "{message}"
+        );
+    }
+    // Other names are as before.
+    let model = source(BALL).replace("h0 = 1.0", "h0 = 1.0\nstatus_ = 2.0");
+    let points = Points::new(vec![axis("status_=1,2")], Combine::Product).unwrap();
+    assert!(Sweep::new(
+        "ball.toml",
+        &model,
+        Default::default(),
+        points,
+        RunSettings::default()
+    )
+    .is_ok());
+}

@@ -53,6 +53,18 @@ pub enum SweepError {
         /// The names that may be varied, comma-separated.
         known: String,
     },
+    /// A varied name that is also the name of a column of results in the sweep's table.
+    #[error(
+        "{file}: `{name}` is varied, but the sweep's table also has a column of results named          `{name}` ({columns}): its values and the results would share one column. Rename the          parameter or coordinate in the model file (e.g. to `{name}_`)"
+    )]
+    ColumnClash {
+        /// The model file.
+        file: String,
+        /// The name.
+        name: String,
+        /// The table's result columns, as a reader sees them.
+        columns: String,
+    },
     /// Zipped axes of different lengths.
     #[error(
         "zipped axes must have the same number of values, but {lengths}: give them equal \

@@ -93,6 +93,25 @@ pub struct Table {
     pub interrupted: bool,
 }
 
+/// The table's columns that are not axes, in order: `index` (before the axes), then `status`,
+/// `impacts`, `t_zeno`, `t_switch`, `t_final`, `final_<name>` for each coordinate and velocity,
+/// and `message`.
+fn result_columns(coordinates: &[String], velocities: &[String]) -> Vec<String> {
+    [
+        "index", "status", "impacts", "t_zeno", "t_switch", "t_final",
+    ]
+    .into_iter()
+    .map(str::to_string)
+    .chain(
+        coordinates
+            .iter()
+            .chain(velocities)
+            .map(|name| format!("final_{name}")),
+    )
+    .chain(std::iter::once("message".to_string()))
+    .collect()
+}
+
 impl Sweep {
     /// A sweep of the model file `source` (named `file` in messages, formulas bounded by
     /// `limits`) over `points`, every run with the file's settings changed by `settings`.
@@ -122,6 +141,21 @@ impl Sweep {
                 file: file.to_string(),
                 name: name.to_string(),
                 known: known.join(", "),
+            });
+        }
+        // The table has a column per axis, then the results: none may share a name.
+        let results = result_columns(&coordinates, &velocities);
+        if let Some(name) = points
+            .names()
+            .into_iter()
+            .find(|n| results.iter().any(|r| r == n))
+        {
+            return Err(SweepError::ColumnClash {
+                file: file.to_string(),
+                name: name.to_string(),
+                columns: "index, status, impacts, t_zeno, t_switch, t_final, final_<coordinate>, \
+                          final_<coordinate>_dot, message"
+                    .to_string(),
             });
         }
         settings
@@ -189,18 +223,11 @@ impl Sweep {
     /// `status`, `impacts`, `t_zeno`, `t_switch`, `t_final`, `final_<coordinate>` for each
     /// coordinate, `final_<coordinate>_dot` for each velocity, and `message`.
     pub fn columns(&self) -> Vec<String> {
-        let start = std::iter::once("index").chain(self.points.names());
-        let outcome = ["status", "impacts", "t_zeno", "t_switch", "t_final"];
-        start
-            .chain(outcome)
-            .map(str::to_string)
-            .chain(
-                self.coordinates
-                    .iter()
-                    .chain(&self.velocities)
-                    .map(|name| format!("final_{name}")),
-            )
-            .chain(std::iter::once("message".to_string()))
+        let results = result_columns(&self.coordinates, &self.velocities);
+        let (index, rest) = results.split_first().expect("the index comes first");
+        std::iter::once(index.clone())
+            .chain(self.points.names().into_iter().map(str::to_string))
+            .chain(rest.iter().cloned())
             .collect()
     }
 
