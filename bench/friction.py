@@ -58,6 +58,12 @@ d,w=run('sphere-slide-spin')
 u0=(2.0-0.1*-15.0, 0.5+0.1*10.0); ts=math.hypot(*u0)/(3.5*0.3*G)
 st=[x['t'] for x in d['events'] if x['kind']=='stick']; v=d['final']['q_dot']
 res['sphere in space']=dict(stick=abs(st[0]-ts), vx=abs(v[0]-(2.0-2/7*u0[0])), vy=abs(v[1]-(0.5-2/7*u0[1])), spin_z=abs(v[5]-7.0), wall=w)
+d,w=run('dumbbell-landing')
+m,l,h,e,mu,v,om=1.0,2.0,0.05,0.5,0.5,1.0,1.0; t1=math.sqrt(2*h/G); N=(1+e)*m*math.sqrt(2*G*h)
+imp=[x for x in d['events'] if x['kind']=='impact']; a=imp[0]['after']['q_dot']
+want=[0.0, v-mu*N/(2*m), e*G*t1, 0.0, om-mu*N/(m*l)]
+res['dumbbell in space']=dict(first_impact=abs(imp[0]['t']-t1), after=max(abs(x-y) for x,y in zip(a,want)),
+    zeno=abs(d['zeno'][0]['t_zeno']-t1*(1+e)/(1-e)), final=max(abs(x) for x in d['final']['q_dot']), wall=w)
 d,w=run('painleve-rod')
 res['painleve']=dict(status=d['status'], t=d['final']['t'], msg=d['message'][:90], wall=w)
 for k,v in res.items(): print(k, {a:(('%.1e'%b) if isinstance(b,float) else b) for a,b in v.items()})
