@@ -1850,6 +1850,18 @@ impl<'s> Cx<'s> {
                 "every coordinate needs a kinetic term with a positive coefficient (e.g. 0.5*m*x_dot^2), and the initial state must avoid coordinate singularities such as sin(theta) = 0",
             ));
         }
+        if let Some(velocity) = not_quadratic(&derived, &initial.q, &initial.q_dot, &mass) {
+            let lagrangian = root.get("lagrangian").expect("checked");
+            return Err(self.at(
+                lagrangian.span().start,
+                "lagrangian",
+                format!(
+                    "the Lagrangian is not quadratic in the velocities: its mass matrix ∂²L/∂q̇² changes with the velocities (in its column of {}_dot). zenosim's mechanics (the energy q̇·∂L/∂q̇ − L as ½ q̇ᵀMq̇ plus potential, the impact laws, the contact forces) hold for L = ½ q̇ᵀM(q)q̇ + b(q)·q̇ − V(q)",
+                    model.coordinates[velocity]
+                ),
+                "write the kinetic energy as a quadratic form in the velocities (e.g. 0.5*m*x_dot^2), with terms linear in them where the model needs them",
+            ));
+        }
         Ok(())
     }
 
@@ -1958,6 +1970,51 @@ struct ParsedConstraint {
     reset: Vec<(usize, Expression)>,
     /// Coulomb friction and the slip formula, where the constraint has them.
     friction: Option<(Friction, Vec<Expression>)>,
+}
+
+/// A column of the mass matrix `M = ∂²L/∂q̇²` of `derived` that changes with the velocities: `M` at the
+/// positions `q` (and at two others nearby) with the velocities `q̇` and with two other sets of
+/// velocities differs beyond `10⁻⁹` of its size (`mass` is `M(q, q̇)`). For a Lagrangian
+/// quadratic in the velocities `M` depends on the positions alone, exactly: its second
+/// derivatives are sums of products of the velocities' coefficients. `None` where it is, or
+/// where `M` is not finite away from the initial state (a singular position: nothing to
+/// compare).
+fn not_quadratic(
+    derived: &Derived<'_, FileModel>,
+    q: &[f64],
+    q_dot: &[f64],
+    mass: &[f64],
+) -> Option<usize> {
+    let n = q.len();
+    let shifted = |x: &[f64], by: f64| -> Vec<f64> {
+        x.iter()
+            .enumerate()
+            .map(|(i, v)| v + by * (1.0 + 0.37 * i as f64))
+            .collect()
+    };
+    for (k, by) in [0.0, 0.013, -0.021].into_iter().enumerate() {
+        let positions = shifted(q, by);
+        let reference = if k == 0 {
+            mass.to_vec()
+        } else {
+            derived.mass_matrix(&positions, q_dot).0
+        };
+        if reference.iter().any(|m| !m.is_finite()) {
+            continue;
+        }
+        let size = reference.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        for step in [0.7, -1.3] {
+            let (other, _) = derived.mass_matrix(&positions, &shifted(q_dot, step));
+            if other.iter().any(|m| !m.is_finite()) {
+                continue;
+            }
+            if let Some(entry) = (0..n * n).find(|&e| (other[e] - reference[e]).abs() > 1e-9 * size)
+            {
+                return Some(entry % n);
+            }
+        }
+    }
+    None
 }
 
 /// A pair of velocities `(i, j)` along which `expression`'s second derivative is not 0 at one

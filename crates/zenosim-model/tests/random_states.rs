@@ -436,6 +436,32 @@ fn sphere_in_space(file: &ModelFile, u: &[f64; 8]) -> State {
     )
 }
 
+/// The dumbbell in space: tilted by up to 0.3 rad, its lower end up to 0.3 above the floor,
+/// heading anywhere, its centre moving at up to 2 along each axis, tilting at up to 2 rad/s and
+/// turning at up to 5 rad/s.
+fn dumbbell(file: &ModelFile, u: &[f64; 8]) -> State {
+    let l = parameter(file, "l");
+    let tilt = lerp(u[0], -0.3, 0.3);
+    (
+        vec![
+            0.0,
+            0.0,
+            0.5 * l * tilt.sin().abs() + 0.3 * u[1],
+            tilt,
+            lerp(u[2], -PI, PI),
+        ],
+        vec![
+            lerp(u[3], -2.0, 2.0),
+            lerp(u[4], -2.0, 2.0),
+            lerp(u[5], -2.0, 2.0),
+            // u[6] and u[7] are the start's: the tilt's and the turn's rates from u[0]'s and
+            // u[1]'s digits.
+            lerp((7.0 * u[0]).fract(), -2.0, 2.0),
+            lerp((7.0 * u[1]).fract(), -5.0, 5.0),
+        ],
+    )
+}
+
 /// The rimless wheel: spoke 0 within a spoke's spacing of the slope's normal, the hub up to 0.3
 /// above the lowest tip, moving at up to 2 either way and turning at up to 3 rad/s.
 fn rimless_wheel(file: &ModelFile, u: &[f64; 8]) -> State {
@@ -518,7 +544,7 @@ fn table(file: &ModelFile, u: &[f64; 8]) -> State {
     )
 }
 
-const SPECS: [Spec; 24] = [
+const SPECS: [Spec; 25] = [
     Spec {
         file: "rimless-wheel.toml",
         base: rimless_wheel,
@@ -547,6 +573,12 @@ const SPECS: [Spec; 24] = [
         file: "sphere-slide-spin.toml",
         base: sphere_in_space,
         seed: 36,
+        closest: None,
+    },
+    Spec {
+        file: "dumbbell-landing.toml",
+        base: dumbbell,
+        seed: 38,
         closest: None,
     },
     Spec {
@@ -1210,6 +1242,11 @@ fn housner_block_random_states() {
 #[test]
 fn sphere_slide_spin_random_states() {
     check_model("sphere-slide-spin.toml");
+}
+
+#[test]
+fn dumbbell_landing_random_states() {
+    check_model("dumbbell-landing.toml");
 }
 
 #[test]
