@@ -30,6 +30,9 @@ pub fn merge(args: &MergeArgs) -> Result<u8, Failure> {
     let mut writer = Rewriter::new(BufWriter::new(file), &identity, &header)
         .with_context(|| format!("cannot write {target}"))
         .output()?;
+    // A row whose run was stopped (status `interrupted`) is not a result: its shard is to be
+    // run again.
+    let status = header.iter().position(|name| name == b"status");
     let mut record = csv::ByteRecord::new();
     for index in 0..identity.points {
         let part = &mut parts[index % count];
@@ -57,6 +60,13 @@ pub fn merge(args: &MergeArgs) -> Result<u8, Failure> {
                 String::from_utf8_lossy(record.get(0).unwrap_or_default())
             );
             return Err(expected(&what)).bad_input();
+        }
+        if status.and_then(|c| record.get(c)) == Some(b"interrupted".as_slice()) {
+            return Err(anyhow!(
+                "{path}:{line}: the run of point {index} was interrupted (status \
+                 `interrupted`): shard {shard} is incomplete; run this shard again"
+            ))
+            .bad_input();
         }
         writer
             .row(&record)

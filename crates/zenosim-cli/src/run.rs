@@ -99,6 +99,13 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         .with_context(|| format!("cannot write {}", csv_partial.target().display()))
         .output()?;
     let (rows, capped) = (written.rows, written.capped);
+    // What the cap leaves for summary.json: the trajectory and the model file count first.
+    let csv_bytes = written.out.metadata().map_or(0, |m| m.len());
+    let left = args
+        .max_output
+        .0
+        .saturating_sub(csv_bytes)
+        .saturating_sub(source.len() as u64);
     let csv_finished = csv_partial.finish(written.out).output()?;
 
     // The cap stopped the run (as Ctrl-C would, at its next step): a failure, like a limit.
@@ -127,6 +134,25 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     }
     .summary();
     summary.status = status;
+    // summary.json within the cap too: its lists cut to the first items that fit.
+    let summary_capped = fit_summary(&mut summary, left).output()?;
+    let message = match summary.truncated {
+        Some(totals) if !capped => {
+            let cap = args.max_output.to_string();
+            summary.status = Status::Failed.word();
+            summary.message = format!(
+                "{message}; then {SUMMARY} reached the output cap of {cap} (--max-output): it \
+                 lists the first {} of the {} events and {} of the {} intervals",
+                summary.events.kept(),
+                totals.events,
+                summary.intervals.kept(),
+                totals.intervals,
+            );
+            summary.message.clone()
+        }
+        _ => message,
+    };
+    let status = summary.status;
     let balance = summary.energy_balance;
     let summary_finished = write_summary(&out, &summary)?;
     // The model file as it was read, so that the folder says what was run.
@@ -189,6 +215,20 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
         &files,
     ));
     let code = match &execution.outcome {
+        _ if summary_capped && !capped => {
+            print_error(&format!(
+                "{} reached the output cap of {} (--max-output): the run's {} events and {} \
+                 intervals do not fit; it lists the first of them and says so (status failed, \
+                 `truncated`). Raise the cap (e.g. --max-output {}), or stop the run earlier \
+                 (--t-end, --max-events)",
+                out.path(SUMMARY).display(),
+                args.max_output,
+                execution.events.len(),
+                execution.intervals.len(),
+                args.max_output.doubled().flag(),
+            ));
+            EXIT_FAILED
+        }
         _ if capped => {
             let trajectory = out.path(TRAJECTORY);
             print_error(&format!(
@@ -229,6 +269,59 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     plots?;
     report_file?;
     Ok(code)
+}
+
+/// Cuts the lists of `summary` (Zeno points, events, intervals: the first `k` of each, the
+/// largest `k` that fits) so that its file takes at most `budget` bytes, and records how many
+/// there were (`truncated`); whether it had to. Each size is counted by writing the summary
+/// into a counter (a few passes, only where the whole does not fit).
+fn fit_summary(summary: &mut Summary<'_>, budget: u64) -> anyhow::Result<bool> {
+    let size = |summary: &Summary<'_>| -> anyhow::Result<u64> {
+        let mut counter = Counter(0);
+        json_layout::to_writer(&mut counter, summary, SUMMARY_INDENT)?;
+        Ok(counter.0 + 1)
+    };
+    if size(summary)? <= budget {
+        return Ok(false);
+    }
+    let totals = zenosim_runs::summary::TruncatedJson {
+        zeno: summary.zeno.len(),
+        events: summary.events.len(),
+        intervals: summary.intervals.len(),
+    };
+    summary.truncated = Some(totals);
+    let keep = |summary: &mut Summary<'_>, k: usize| {
+        summary.zeno.keep(k);
+        summary.events.keep(k);
+        summary.intervals.keep(k);
+    };
+    // The largest k that fits, by bisection (0 always is kept: the rest is small).
+    let (mut fits, mut too_many) = (0, totals.zeno.max(totals.events).max(totals.intervals));
+    while too_many - fits > 1 {
+        let mid = fits + (too_many - fits) / 2;
+        keep(summary, mid);
+        if size(summary)? <= budget {
+            fits = mid;
+        } else {
+            too_many = mid;
+        }
+    }
+    keep(summary, fits);
+    Ok(true)
+}
+
+/// A writer that only counts the bytes written to it.
+struct Counter(u64);
+
+impl Write for Counter {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        self.0 += bytes.len() as u64;
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
 }
 
 /// Writes `summary.json` under its temporary name, complete and synced, to be published.

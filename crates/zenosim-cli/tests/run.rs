@@ -826,3 +826,55 @@ fn a_start_at_rest_was_reported_as_a_zeno_point() {
     assert_eq!(s["events"].as_array().unwrap().len(), 0);
     assert_eq!(s["intervals"][0]["mode"], "constrained");
 }
+
+/// `summary.json` was not bounded by `--max-output`: with `--max-output 20M` a run wrote
+/// 49 MiB (its events). The cap now covers it too: its lists of Zeno points, events and
+/// intervals keep their first items that fit, `truncated` says how many there were, and the
+/// run says so (status failed, exit 1, what to do).
+#[test]
+fn summary_json_is_bounded_by_the_output_cap() {
+    // An elastic ball bounces for ever: 4000 impacts to t = 3600, 0.86 MB of trajectory (two
+    // rows an impact) and 1.3 MB of summary.
+    let scratch = Scratch::new(&BALL.replace("e = 0.5", "e = 1.0"));
+    let output = scratch.run(&[
+        "--t-end",
+        "3600",
+        "--dt",
+        "100",
+        "--max-events",
+        "100000",
+        "--max-output",
+        "1200K",
+    ]);
+    assert_exit(&output, 1);
+    let error = stderr(&output);
+    assert!(
+        error.contains("summary.json reached the output cap of 1200 KiB")
+            && error.contains("--max-output 2400KiB"),
+        "{error}"
+    );
+    let out = scratch.path("out");
+    let total: u64 = ["summary.json", "trajectory.csv", "model.toml"]
+        .iter()
+        .map(|f| std::fs::metadata(out.join(f)).unwrap().len())
+        .sum();
+    assert!(total <= 1200 * 1024, "{total} bytes");
+    let capped = summary(&out);
+    assert_eq!(capped["status"], "failed");
+    let events = capped["events"].as_array().unwrap().len();
+    let all = capped["truncated"]["events"].as_u64().unwrap() as usize;
+    assert!(
+        all > 3000 && events > 100 && events < all,
+        "{events} of {all}"
+    );
+    assert!(capped["message"]
+        .as_str()
+        .unwrap()
+        .contains(&format!("the first {events} of the {all} events")));
+    // Under the default cap nothing is cut, and `truncated` is left out.
+    let output = scratch.run(&["--t-end", "3600", "--dt", "100", "--max-events", "100000"]);
+    assert_exit(&output, 0);
+    let whole = summary(&out);
+    assert!(whole.get("truncated").is_none());
+    assert_eq!(whole["events"].as_array().unwrap().len(), all);
+}

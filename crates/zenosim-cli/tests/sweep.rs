@@ -622,3 +622,31 @@ fn another_programs_partial_files_are_left_alone() {
     assert_eq!(std::fs::read_to_string(&theirs).unwrap(), "chapter 1");
     assert!(!stale.exists());
 }
+
+/// A shard interrupted after every point had started keeps a row for each, the stopped ones
+/// with status `interrupted`: `merge` accepted it, though the docs say it refuses an
+/// interrupted shard. A row of status `interrupted` now makes the shard incomplete.
+#[test]
+fn merge_refuses_a_shard_with_an_interrupted_run_even_if_every_row_is_there() {
+    let s = Scratch::new(BALL);
+    assert_exit(&sweep(&s, &["--shard", "1/1", "--out", "part.csv"]), 0);
+    let text = read(&s.path("part.csv"));
+    // The first row's status, as a run stopped by Ctrl-C writes it.
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let header: Vec<&str> = lines[1].split(',').collect();
+    let column = header.iter().position(|&h| h == "status").unwrap();
+    let mut fields: Vec<String> = lines[2].split(',').map(str::to_string).collect();
+    fields[column] = "interrupted".to_string();
+    lines[2] = fields.join(",");
+    std::fs::write(s.path("part.csv"), lines.join("\n") + "\n").unwrap();
+    let merged = s.zenosim(&["merge", "part.csv", "--out", "m.csv"]);
+    assert_exit(&merged, 2);
+    let error = stderr(&merged);
+    assert!(
+        error.contains("part.csv:3")
+            && error.contains("interrupted")
+            && error.contains("run this shard again"),
+        "{error}"
+    );
+    assert!(!s.path("m.csv").exists());
+}

@@ -72,6 +72,22 @@ pub struct Summary<'a> {
     pub stats: StatsJson,
     /// The trajectory file and its number of data rows.
     pub trajectory: TrajectoryJson,
+    /// Where the output cap (`--max-output`) cut the lists above: how many Zeno points, events
+    /// and intervals the run had (the lists hold the first of each). Left out where nothing
+    /// was cut.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub truncated: Option<TruncatedJson>,
+}
+
+/// How many items the lists cut by the output cap had ([`Summary::truncated`]).
+#[derive(DeriveSerialize, Clone, Copy, Debug)]
+pub struct TruncatedJson {
+    /// The Zeno points.
+    pub zeno: usize,
+    /// The events.
+    pub events: usize,
+    /// The intervals of the hybrid time domain.
+    pub intervals: usize,
 }
 
 /// A sequence serialised item by item as it is written, never held whole (a run may have
@@ -79,6 +95,8 @@ pub struct Summary<'a> {
 pub struct Lazy<'a, T, U> {
     items: &'a [T],
     map: Box<dyn Fn(usize, &'a T) -> U + 'a>,
+    /// How many of the items are written (all unless [`Lazy::keep`] cut them).
+    kept: usize,
 }
 
 impl<'a, T, U> Lazy<'a, T, U> {
@@ -87,6 +105,7 @@ impl<'a, T, U> Lazy<'a, T, U> {
         Self {
             items,
             map: Box::new(move |_, item| map(item)),
+            kept: items.len(),
         }
     }
 
@@ -95,6 +114,7 @@ impl<'a, T, U> Lazy<'a, T, U> {
         Self {
             items,
             map: Box::new(map),
+            kept: items.len(),
         }
     }
 }
@@ -109,13 +129,23 @@ impl<T, U> Lazy<'_, T, U> {
     pub fn is_empty(&self) -> bool {
         self.items.is_empty()
     }
+
+    /// Writes only the first `count` items (all of them where there are fewer).
+    pub fn keep(&mut self, count: usize) {
+        self.kept = count.min(self.items.len());
+    }
+
+    /// How many items are written.
+    pub fn kept(&self) -> usize {
+        self.kept
+    }
 }
 
 impl<'a, T, U> Lazy<'a, T, U> {
     /// Every item, mapped.
     pub fn collect(self) -> Vec<U> {
         let map = &self.map;
-        self.items
+        self.items[..self.kept]
             .iter()
             .enumerate()
             .map(|(k, item)| map(k, item))
@@ -126,7 +156,12 @@ impl<'a, T, U> Lazy<'a, T, U> {
 impl<T, U: Serialize> Serialize for Lazy<'_, T, U> {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         let map = &self.map;
-        serializer.collect_seq(self.items.iter().enumerate().map(|(k, item)| map(k, item)))
+        serializer.collect_seq(
+            self.items[..self.kept]
+                .iter()
+                .enumerate()
+                .map(|(k, item)| map(k, item)),
+        )
     }
 }
 
@@ -564,6 +599,7 @@ impl<'a> Record<'a> {
                 events: run.events.len(),
             },
             trajectory: self.trajectory,
+            truncated: None,
         }
     }
 }
