@@ -1,6 +1,6 @@
-//! The frictional contact problem with isotropic Coulomb cones (docs/friction.md, "Several
-//! contacts in space"), which the LCP cannot state exactly once a contact has two tangential
-//! directions.
+//! The frictional contact problem with isotropic Coulomb cones (docs/friction.md, "Contacts in
+//! space: the isotropic cone"), which the LCP cannot state exactly once a contact has two
+//! tangential directions.
 //!
 //! # The problem
 //!
@@ -33,13 +33,17 @@
 //! until `½|F|²` decreases (Armijo). Near a solution the pieces no longer change and the
 //! method converges quadratically, to the rounding of `u`: the answer is exact to the working
 //! precision, as the LCP's is. It starts from every contact sticking (the least-norm solution
-//! of `W P = −q`, cut into the cones), then, if that fails, from `P = 0`.
+//! of `W P = −q`, cut into the cones); if that fails, from where Gauss–Seidel sweeps take it,
+//! then from `P = 0`, then from a fixed sequence of impulses scattered over the cones.
 //! `ρᵢ = 1/Wₙₙ` of the contact (the unit of an impulse), as Alart and Curnier suggest.
 
 use nalgebra::{DMatrix, DVector};
 
 /// Newton steps from one start before it is abandoned.
 const ITERATIONS: usize = 100;
+
+/// Scattered starts ([`Problem::scattered`]) tried after the three others.
+const SCATTERED: usize = 16;
 
 /// Sweeps of the Gauss–Seidel method over the contacts.
 const SWEEPS: usize = 200;
@@ -128,16 +132,21 @@ pub(crate) fn solve(
     };
     let mut best = f64::INFINITY;
     let mut start = problem.sticking_start();
-    for attempt in 0..3 {
+    // A fixed sequence of starts spread over the cones (a linear congruential generator): the
+    // same problem always takes the same path.
+    let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
+    for attempt in 0..3 + SCATTERED {
         match problem.newton(start.clone()) {
             Ok(p) => return Ok(p),
             Err(residual) => best = best.min(residual),
         }
-        // Then from where sweeps of Gauss and Seidel take it, then from none.
-        start = if attempt == 0 {
-            problem.gauss_seidel(start)
-        } else {
-            DVector::zeros(m)
+        // Then from where sweeps of Gauss and Seidel take it, then from none, then from
+        // scattered impulses in the cones (a start near the wedging edge of a cone, where a
+        // contact's normal response to its own sliding vanishes, is found that way).
+        start = match attempt {
+            0 => problem.gauss_seidel(start),
+            1 => DVector::zeros(m),
+            _ => problem.scattered(&mut seed),
         };
     }
     Err(ConeError::NoConvergence { residual: best })
@@ -164,6 +173,31 @@ impl Problem<'_> {
                 for r in range {
                     p[r] *= limit / size;
                 }
+            }
+        }
+        p
+    }
+
+    /// Impulses spread over the cones: each `Pₙ` up to twice [`Problem::natural_scale`], each
+    /// `Pₜ` anywhere in its disc, drawn from `seed` (advanced).
+    fn scattered(&self, seed: &mut u64) -> DVector<f64> {
+        let mut next = || {
+            *seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (*seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let scale = 2.0 * self.natural_scale();
+        let mut p = DVector::zeros(self.q.len());
+        for c in self.contacts {
+            let normal = scale * next();
+            p[c.start] = normal;
+            let (radius, angle) = (c.mu * normal * next(), std::f64::consts::TAU * next());
+            if c.tangents == 1 {
+                p[c.start + 1] = radius * angle.cos().signum();
+            } else if c.tangents == 2 {
+                p[c.start + 1] = radius * angle.cos();
+                p[c.start + 2] = radius * angle.sin();
             }
         }
         p
@@ -241,7 +275,7 @@ impl Problem<'_> {
     /// The problem of one contact (at rows 0…), solved exactly: it lets go (`qₙ ≥ 0`), or it
     /// sticks (`W P = −q` within the cone), or it slides along a unit `b` with
     /// `P = Pₙ (1, −μ b)`, `uₙ = 0`, at which `uₜ` runs along `b` (in a plane `b = ±1`; in
-    /// space the angle at which `uₜ` has no part across `b`, on a ring of angles,
+    /// space the angle at which `uₜ` has no part across `b`, on a ring of 720 angles,
     /// [`ring_root`]). `None` where none of these is found.
     fn single(&self) -> Option<DVector<f64>> {
         let [c] = self.contacts else { return None };
@@ -278,7 +312,10 @@ impl Problem<'_> {
             let b = [angle.cos(), angle.sin()];
             slide(b).map(|(_, u)| (b[0] * u[2] - b[1] * u[1], b[0] * u[1] + b[1] * u[2]))
         };
-        let b = ring_root(&mut at, |along, _| along > 0.0)?;
+        // A fine ring (half a degree): an interval with an end where the contact cannot slide
+        // (its normal response to its own sliding is not positive) is not searched, and the
+        // slide may lie right next to such an angle (the wedging edge).
+        let b = ring_root(&mut at, |along, _| along > 0.0, 720)?;
         slide(b).map(|(p, _)| p)
     }
 
@@ -440,13 +477,13 @@ fn newton_step(jacobian: &DMatrix<f64>, f: &DVector<f64>) -> Option<DVector<f64>
 
 /// The unit vector at the angle where `g` (the first of the pair `at` returns) vanishes and
 /// the second, `along`, is largest of those `accept(along, size)` takes (`size` the largest
-/// `|along|` around the ring): `g` sampled on a ring of 48 angles, each change of sign bisected
-/// to adjacent angles. `None` where no root is taken.
+/// `|along|` around the ring): `g` sampled on a ring of `ring` angles, each change of sign
+/// bisected to adjacent angles. `None` where no root is taken.
 pub(crate) fn ring_root(
     at: &mut impl FnMut(f64) -> Option<(f64, f64)>,
     accept: impl Fn(f64, f64) -> bool,
+    ring: u32,
 ) -> Option<[f64; 2]> {
-    let ring: u32 = 48;
     let step = std::f64::consts::TAU / f64::from(ring);
     let samples: Vec<Option<(f64, f64)>> = (0..=ring).map(|i| at(step * f64::from(i))).collect();
     let size = samples

@@ -247,3 +247,39 @@ fn non_finite_data_is_refused() {
         Err(super::ConeError::NonFinite)
     );
 }
+
+/// A single contact whose sliding solution lies next to the angle where its normal response to
+/// its own sliding vanishes (the wedging edge): the ring search of the exact single-contact
+/// solve on 48 angles could not bracket it, and Newton's method failed from the three starts it
+/// had; a reviewer's random start found it (violation 8e-15). The exact solve searches 720
+/// angles now (and Newton's method has scattered starts besides).
+#[test]
+fn a_slide_next_to_the_wedging_edge_is_found() {
+    let w = DMatrix::from_row_slice(
+        3,
+        3,
+        &[
+            0.45713557809530214,
+            0.4401408367281503,
+            -0.9720290396584108,
+            0.4401408367281503,
+            0.7367507492672394,
+            -1.7372810785728987,
+            -0.9720290396584108,
+            -1.7372810785728987,
+            4.440980679681228,
+        ],
+    );
+    let q = DVector::from_vec(vec![
+        -0.004623381780824845,
+        -0.0061316184911455185,
+        -0.618083829448619,
+    ]);
+    let cs = contacts(&[2], &[0.6932866304963579]);
+    let p = solve(&w, &q, &cs).expect("solved");
+    assert!(violation(&w, &q, &cs, &p) <= 1e-12, "{p}");
+    // Sliding: the reviewer's answer, (0.33438, 0.11176, 0.20310).
+    for (a, b) in p.iter().zip([0.33438, 0.11176, 0.20310]) {
+        assert!((a - b).abs() < 1e-4, "{p}");
+    }
+}

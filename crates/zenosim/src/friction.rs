@@ -281,7 +281,7 @@ fn solve_least_norm(g: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVector<f64>
     };
     let lu = g.clone().lu();
     let pivots = lu.u().diagonal().abs();
-    if pivots.min() > 1e-10 * pivots.max() {
+    if !pivots.is_empty() && pivots.min() > DEPENDENT * pivots.max() {
         if let Some(mut x) = lu.solve(rhs) {
             if let Some(correction) = lu.solve(&(rhs - g * &x)) {
                 x += correction;
@@ -295,6 +295,17 @@ fn solve_least_norm(g: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVector<f64>
         return None;
     }
     accept(svd.solve(rhs, 1e-12 * largest).ok()?)
+}
+
+/// LU pivots below this fraction of the largest: the rows are dependent.
+const DEPENDENT: f64 = 1e-10;
+
+/// Whether the square system `g` is singular to working precision, its rows dependent (the
+/// contacts statically indeterminate): an LU pivot below [`DEPENDENT`] of the largest, as
+/// [`solve_least_norm`] decides.
+fn dependent(g: &DMatrix<f64>) -> bool {
+    let pivots = g.clone().lu().u().diagonal().abs();
+    !pivots.is_empty() && pivots.min() <= DEPENDENT * pivots.max()
 }
 
 /// Why the contact problem with friction has no answer.
@@ -349,6 +360,30 @@ pub(crate) struct FrictionalImpact {
 pub(crate) struct Decision {
     pub held: ActiveSet,
     pub grips: Grips,
+}
+
+/// How a contact enters [`Frame::cone_accelerations`].
+#[derive(Clone, Copy, Debug)]
+enum Role {
+    /// With its cone, of this coefficient.
+    Cone(f64),
+    /// Slipping on with its kinetic force along its basis, times this sign.
+    Kinetic(f64),
+    /// Without friction (or none of it counted).
+    Normal,
+}
+
+/// What [`Frame::cone_accelerations`] found.
+struct ConeSolution {
+    /// The normal accelerations and slip accelerations, row by row.
+    accelerations: DVector<f64>,
+    /// The forces, row by row.
+    #[allow(dead_code)]
+    forces: DVector<f64>,
+    /// The rows of each contact.
+    contacts: Vec<cone::Contact>,
+    /// The rounding of each row's acceleration.
+    rounds: Vec<f64>,
 }
 
 impl Forces {
@@ -540,30 +575,24 @@ impl Frame {
     /// slips from rest slips the way its own force drives it ([`Frame::settled`]).
     pub fn forces(&self, set: ActiveSet, grips: Grips) -> Result<Forces, DynamicsError> {
         match self.settled(set, grips)? {
-            Some(frame) => frame.forces_held(set, grips, &[]),
-            None => self.forces_held(set, grips, &[]),
+            Some(frame) => frame.forces_held(set, grips),
+            None => self.forces_held(set, grips),
         }
     }
 
     /// [`Frame::forces`] in the frame's bases as they are, with the parts across of the
     /// slipping contacts at the positions `across` held too (their slip across stays 0).
-    fn forces_held(
-        &self,
-        set: ActiveSet,
-        grips: Grips,
-        across: &[usize],
-    ) -> Result<Forces, DynamicsError> {
+    fn forces_held(&self, set: ActiveSet, grips: Grips) -> Result<Forces, DynamicsError> {
         let k = self.len();
         let n = self.n;
         // The unknowns: every normal force, then the sticking contacts' tangential forces (two
-        // in space), then the held parts across.
+        // in space).
         let mut stick: Vec<(usize, bool)> = Vec::new();
         for p in 0..k {
             if grips.stick.contains(self.indices[p]) && self.tangents[p].is_some() {
                 stick.extend(self.held_parts(p));
             }
         }
-        stick.extend(across.iter().map(|&p| (p, true)));
         let size = k + stick.len();
         // Each unknown's column, M⁻¹ applied: a normal force's along M⁻¹Aᵀ, less μₖ times M⁻¹Sᵀ
         // in its slip's direction where it slips; a tangential force's along M⁻¹Sᵀ.
@@ -597,7 +626,18 @@ impl Frame {
         // the contacts are dependent (then the forces of least norm: the motion is the same for
         // all that solve it). Whether the states are consistent, a normal force that pulls
         // says (a margin), and law 1 decides again (`decide`, where Painlevé's paradox shows).
-        let x = solve_least_norm(&g, &rhs).ok_or_else(|| paradox(set))?;
+        // Where the contacts are dependent (statically indeterminate: a box on four corners),
+        // the least-norm forces are one choice of many, and may lie outside a sticking
+        // contact's cone where another choice does not: then the choice Coulomb's law with
+        // every cone at once makes, if it holds every contact as `grips` says. (Where they are
+        // not, the forces are unique, and one outside a cone is the stick's end.)
+        let x = match solve_least_norm(&g, &rhs) {
+            Some(x) if !dependent(&g) || self.within_cones(&x, grips, &stick) => x,
+            least => match self.redistributed(&g, &rhs, grips, &stick) {
+                Some(x) => x,
+                None => least.ok_or_else(|| paradox(set))?,
+            },
+        };
         let mut q_ddot = self.acc_free.clone();
         for c in 0..size {
             for (a, col) in q_ddot.iter_mut().zip(&columns[c * n..(c + 1) * n]) {
@@ -647,11 +687,83 @@ impl Frame {
         })
     }
 
+    /// Whether the forces `x` of [`Frame::forces_held`] (normal forces, then the parts `stick`
+    /// of the sticking contacts) lie within every sticking contact's static cone, to rounding.
+    /// (A normal force that pulls is the motion's own answer: the contact lets go.)
+    fn within_cones(&self, x: &DVector<f64>, grips: Grips, stick: &[(usize, bool)]) -> bool {
+        let k = self.len();
+        let round = ROUND_OFF * x.amax();
+        let mut tangential = vec![0.0_f64; k];
+        for (u, &(p, _)) in stick.iter().enumerate() {
+            tangential[p] += x[k + u] * x[k + u];
+        }
+        (0..k).all(|p| {
+            let size = tangential[p].sqrt();
+            !grips.stick.contains(self.indices[p])
+                || self.tangents[p]
+                    .as_ref()
+                    .is_none_or(|t| size <= t.mu_static * x[p] + round)
+        })
+    }
+
+    /// The forces of [`Frame::forces_held`] (the system `g x = rhs`, unknowns in its order)
+    /// as Coulomb's law with the cones of every contact at once chooses them ([`crate::cone`]:
+    /// each sticking contact with its static cone, every normal force pushing), if that choice
+    /// holds every contact as `grips` says (every row's acceleration 0, to rounding); `None`
+    /// otherwise.
+    fn redistributed(
+        &self,
+        g: &DMatrix<f64>,
+        rhs: &DVector<f64>,
+        grips: Grips,
+        stick: &[(usize, bool)],
+    ) -> Option<DVector<f64>> {
+        let k = self.len();
+        // The unknowns by contact: its normal force, then its sticking parts.
+        let mut order = Vec::with_capacity(rhs.len());
+        let mut contacts = Vec::with_capacity(k);
+        for p in 0..k {
+            let start = order.len();
+            order.push(p);
+            order.extend((0..stick.len()).filter(|&u| stick[u].0 == p).map(|u| k + u));
+            let sticking = grips.stick.contains(self.indices[p]);
+            contacts.push(cone::Contact {
+                start,
+                tangents: order.len() - start - 1,
+                mu: match &self.tangents[p] {
+                    Some(t) if sticking => t.mu_static,
+                    _ => 0.0,
+                },
+            });
+        }
+        let size = order.len();
+        let w = DMatrix::from_fn(size, size, |r, c| g[(order[r], order[c])]);
+        let q = DVector::from_fn(size, |r, _| -rhs[order[r]]);
+        let forces = cone::solve(&w, &q, &contacts).ok()?;
+        let accelerations = &q + &w * &forces;
+        let held = (0..size).all(|r| {
+            let terms: f64 = q[r].abs()
+                + (0..size)
+                    .map(|c| (w[(r, c)] * forces[c]).abs())
+                    .sum::<f64>();
+            accelerations[r].abs() <= 1e-12 * terms
+        });
+        if !held {
+            return None;
+        }
+        let mut x = DVector::zeros(size);
+        for (r, &unknown) in order.iter().enumerate() {
+            x[unknown] = forces[r];
+        }
+        Some(x)
+    }
+
     /// Where contacts in space slip in `grips` from rest or nearly ([`Tangent::settling`]), the
     /// frame with each one's basis along the direction the forces drive its slip in: the
-    /// kinetic force along `−basis` must drive the slip along `basis`, so the force across,
-    /// were the slip across held at 0, is 0 ([`Frame::slip_direction`]; jointly, contact by
-    /// contact, for several). `None` where there is none such.
+    /// kinetic force along `−basis` must drive the slip along `basis`, so the slip's
+    /// acceleration has no part across it ([`Frame::slip_direction`]; for several, by sweeps
+    /// contact by contact, and where those do not settle, as dependent contacts make them, all
+    /// at once by [`Frame::settled_by_cones`]). `None` where no contact slips from rest.
     fn settled(&self, set: ActiveSet, grips: Grips) -> Result<Option<Frame>, DynamicsError> {
         let mut moving: Vec<usize> = (0..self.len())
             .filter(|&p| {
@@ -666,7 +778,7 @@ impl Frame {
         // A small slip that is not at rest and slows down along its own direction is on its
         // way to 0 (a sphere about to roll): its direction stays its own.
         if moving.iter().any(|&p| !self.tangent(p).at_rest()) {
-            if let Ok(forces) = self.forces_held(set, grips, &[]) {
+            if let Ok(forces) = self.forces_held(set, grips) {
                 moving.retain(|&p| {
                     let t = self.tangent(p);
                     t.at_rest() || dot(&t.slip.row, &forces.q_ddot) + t.slip.sigma >= 0.0
@@ -715,7 +827,56 @@ impl Frame {
                 return Ok(Some(frame));
             }
         }
-        Err(DynamicsError::SpatialFriction { constraints: set })
+        // The sweeps, contact by contact, did not settle (dependent contacts: a box's corners
+        // share their slips): the directions of the slips' accelerations in Coulomb's law with
+        // every cone at once.
+        self.settled_by_cones(set, grips, &moving).map(Some)
+    }
+
+    /// The frame with the contacts in space at `moving` (slipping from rest) turned along the
+    /// accelerations of their slips in Coulomb's law with the cones of every contact at once
+    /// ([`Frame::cone_accelerations`]): the moving ones with their kinetic cones, the sticking
+    /// ones with their static cones, those slipping on with their kinetic forces. There the
+    /// kinetic force of each moving contact is along minus its slip's acceleration, as the law
+    /// for a slip from rest asks, jointly for all.
+    fn settled_by_cones(
+        &self,
+        set: ActiveSet,
+        grips: Grips,
+        moving: &[usize],
+    ) -> Result<Frame, DynamicsError> {
+        let roles: Vec<Role> = (0..self.len())
+            .map(|p| match &self.tangents[p] {
+                None => Role::Normal,
+                Some(t) => {
+                    let index = self.indices[p];
+                    let sign = grips.direction(index);
+                    if moving.contains(&p) {
+                        Role::Cone(t.mu_kinetic)
+                    } else if grips.stick.contains(index) {
+                        Role::Cone(t.mu_static)
+                    } else if sign != 0.0 {
+                        Role::Kinetic(sign)
+                    } else {
+                        Role::Normal
+                    }
+                }
+            })
+            .collect();
+        let solution = self.cone_accelerations(set, &roles)?;
+        let mut frame = self.clone();
+        for &p in moving {
+            let c = solution.contacts[p];
+            let slip = solution
+                .accelerations
+                .rows_range(c.start + 1..=c.start + c.tangents);
+            if c.tangents == 2 && slip.norm() > 0.0 {
+                if let Some(t) = frame.tangents[p].as_mut() {
+                    t.rotate([slip[0], slip[1]]);
+                }
+            }
+        }
+        Ok(frame)
     }
 
     /// The direction in which the contact in space at position `p`, at rest, slips in the
@@ -736,7 +897,7 @@ impl Frame {
         let mut at = |angle: f64| -> Option<(f64, f64)> {
             let basis = [angle.cos(), angle.sin()];
             frame.tangents[p].as_mut()?.rotate(basis);
-            let forces = frame.forces_held(set, grips, &[]).ok()?;
+            let forces = frame.forces_held(set, grips).ok()?;
             let t = frame.tangent(p);
             let along = dot(&t.slip.row, &forces.q_ddot) + t.slip.sigma;
             let cross = &t.space.as_ref()?.cross;
@@ -761,7 +922,7 @@ impl Frame {
                 }
             }
         }
-        ring_root(&mut at, |along, size| along >= -1e-8 * size)
+        ring_root(&mut at, |along, size| along >= -1e-8 * size, 48)
     }
 
     /// The direction against the force that would hold the contact in space at position `p`
@@ -774,7 +935,7 @@ impl Frame {
             forward: grips.forward.minus(only),
             backward: grips.backward.minus(only),
         };
-        let forces = self.forces_held(set, holding, &[]).ok()?;
+        let forces = self.forces_held(set, holding).ok()?;
         let f = forces.components(p, self.tangent(p));
         let size = f[0].hypot(f[1]);
         (size > 0.0).then(|| [-f[0] / size, -f[1] / size])
@@ -1025,6 +1186,58 @@ impl Frame {
     /// sticks where its slip's acceleration is 0, and otherwise slips (in space, from rest, in
     /// the direction [`Frame::settled`] finds; that is the direction of its acceleration here).
     fn decide_cone(&self, set: ActiveSet, candidates: &[usize]) -> Result<Decision, DynamicsError> {
+        let roles: Vec<Role> = (0..self.len())
+            .map(|p| match &self.tangents[p] {
+                None => Role::Normal,
+                Some(t) if candidates.contains(&p) => Role::Cone(t.mu_static),
+                // Slipping on, in its slip's direction (in space the basis runs along it).
+                Some(t) if t.slip.s < 0.0 && t.space.is_none() => Role::Kinetic(-1.0),
+                Some(_) => Role::Kinetic(1.0),
+            })
+            .collect();
+        let solution = self.cone_accelerations(set, &roles)?;
+        let (accelerations, rounds) = (&solution.accelerations, &solution.rounds);
+        let mut held = ActiveSet::empty();
+        let mut grips = Grips::none();
+        for (p, c) in solution.contacts.iter().enumerate() {
+            let index = self.indices[p];
+            if accelerations[c.start] > rounds[c.start] {
+                continue;
+            }
+            held = held.with(index);
+            let Some(t) = &self.tangents[p] else { continue };
+            if let Role::Kinetic(sign) = roles[p] {
+                if sign < 0.0 {
+                    grips.backward = grips.backward.with(index);
+                } else {
+                    grips.forward = grips.forward.with(index);
+                }
+                continue;
+            }
+            let range = c.start + 1..=c.start + c.tangents;
+            let slip = accelerations.rows_range(range.clone());
+            let round: f64 = range.map(|r| rounds[r]).sum();
+            if slip.norm() <= round {
+                grips.stick = grips.stick.with(index);
+            } else if t.space.is_some() || slip[0] > 0.0 {
+                grips.forward = grips.forward.with(index);
+            } else {
+                grips.backward = grips.backward.with(index);
+            }
+        }
+        Ok(Decision { held, grips })
+    }
+
+    /// Coulomb's law with isotropic cones at the level of accelerations on the frame's contacts
+    /// ([`crate::cone`]), each in its [`Role`]: with a cone (its one or two slip components in
+    /// the model's terms, the coefficient given, then the kinetic one where it slips and that is
+    /// lower), slipping on with its kinetic force in its normal column, or without friction.
+    /// The accelerations, the forces, the problem's layout and each row's rounding.
+    fn cone_accelerations(
+        &self,
+        set: ActiveSet,
+        roles: &[Role],
+    ) -> Result<ConeSolution, DynamicsError> {
         let k = self.len();
         let n = self.n;
         // Each row with its column (`M⁻¹` applied), right-hand side and rounding.
@@ -1033,55 +1246,54 @@ impl Frame {
         let mut q = Vec::new();
         let mut round_off = Vec::new();
         let mut contacts = Vec::with_capacity(k);
-        for p in 0..k {
+        for (p, &role) in roles.iter().enumerate() {
             let start = rows.len();
             rows.push(self.row(p));
             let mut column = self.direction(p).to_vec();
             q.push(self.normals[p].h_ddot_free);
             round_off.push(self.normals[p].h_ddot_round_off);
-            let candidate = candidates.contains(&p);
             let mut tangents = 0;
-            if let Some(t) = &self.tangents[p] {
-                if candidate {
-                    let parts: Vec<&Part> = match &t.space {
-                        None => Vec::new(),
-                        Some(space) => space.parts.iter().collect(),
+            let mut mu = 0.0;
+            match (&self.tangents[p], role) {
+                (Some(t), Role::Cone(coefficient)) => {
+                    mu = coefficient;
+                    let parts: Vec<(&Slip, &[f64], f64, f64)> = match &t.space {
+                        None => vec![(&t.slip, &t.direction, t.s_dot_free, t.s_dot_round_off)],
+                        Some(space) => space
+                            .parts
+                            .iter()
+                            .map(|part| {
+                                (
+                                    &part.slip,
+                                    part.direction.as_slice(),
+                                    part.s_dot_free,
+                                    part.s_dot_round_off,
+                                )
+                            })
+                            .collect(),
                     };
-                    if parts.is_empty() {
+                    for (slip, direction, free, round) in parts {
                         columns.push(column);
-                        rows.push(&t.slip.row);
-                        column = t.direction.clone();
-                        q.push(t.s_dot_free);
-                        round_off.push(t.s_dot_round_off);
-                        tangents = 1;
-                    } else {
-                        for part in parts {
-                            columns.push(column);
-                            rows.push(&part.slip.row);
-                            column = part.direction.clone();
-                            q.push(part.s_dot_free);
-                            round_off.push(part.s_dot_round_off);
-                            tangents += 1;
-                        }
+                        rows.push(&slip.row);
+                        column = direction.to_vec();
+                        q.push(free);
+                        round_off.push(round);
+                        tangents += 1;
                     }
-                } else {
-                    // Slipping on: `fₜ = −μₖ fₙ` along its slip (in space the basis runs
-                    // along it).
-                    let sign = if t.slip.s < 0.0 && t.space.is_none() {
-                        -1.0
-                    } else {
-                        1.0
-                    };
+                }
+                (Some(t), Role::Kinetic(sign)) => {
+                    // `fₜ = −μₖ fₙ` along the basis (its slip's direction), times `sign`.
                     for (c, d) in column.iter_mut().zip(&t.direction) {
                         *c -= t.mu_kinetic * sign * d;
                     }
                 }
+                _ => {}
             }
             columns.push(column);
             contacts.push(cone::Contact {
                 start,
                 tangents,
-                mu: self.tangents[p].as_ref().map_or(0.0, |t| t.mu_static),
+                mu,
             });
         }
         debug_assert!(columns.iter().all(|c| c.len() == n));
@@ -1094,7 +1306,6 @@ impl Frame {
                 q[r]
             }
         });
-        let mut solved = None;
         for _ in 0..=k {
             let forces = cone::solve(&w, &q, &contacts).map_err(|error| match error {
                 cone::ConeError::NonFinite => DynamicsError::NonFinite,
@@ -1125,43 +1336,16 @@ impl Frame {
                 }
             }
             if !changed {
-                let rounds: Vec<f64> = (0..size).map(rounding).collect();
-                solved = Some((accelerations, rounds));
-                break;
+                let rounds = (0..size).map(rounding).collect();
+                return Ok(ConeSolution {
+                    accelerations,
+                    forces,
+                    contacts,
+                    rounds,
+                });
             }
         }
-        let (accelerations, rounds) =
-            solved.ok_or(DynamicsError::SpatialFriction { constraints: set })?;
-        let mut held = ActiveSet::empty();
-        let mut grips = Grips::none();
-        for (p, c) in contacts.iter().enumerate() {
-            let index = self.indices[p];
-            if accelerations[c.start] > rounds[c.start] {
-                continue;
-            }
-            held = held.with(index);
-            let Some(t) = &self.tangents[p] else { continue };
-            if c.tangents == 0 {
-                // Slipping on, in its slip's direction.
-                if t.slip.s < 0.0 && t.space.is_none() {
-                    grips.backward = grips.backward.with(index);
-                } else {
-                    grips.forward = grips.forward.with(index);
-                }
-                continue;
-            }
-            let range = c.start + 1..=c.start + c.tangents;
-            let slip = accelerations.rows_range(range.clone());
-            let round: f64 = range.map(|r| rounds[r]).sum();
-            if slip.norm() <= round {
-                grips.stick = grips.stick.with(index);
-            } else if t.space.is_some() || slip[0] > 0.0 {
-                grips.forward = grips.forward.with(index);
-            } else {
-                grips.backward = grips.backward.with(index);
-            }
-        }
-        Ok(Decision { held, grips })
+        Err(DynamicsError::SpatialFriction { constraints: set })
     }
 
     /// Law 1's LCP (Pfeiffer and Glocker) with the contacts at positions `candidates` free to
