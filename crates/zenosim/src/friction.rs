@@ -271,8 +271,14 @@ fn lcp_error(set: ActiveSet, error: lcp::LcpError) -> DynamicsError {
 /// `10⁻¹²` of the largest dropped). Accepted where it solves
 /// the system to `10⁻⁹` of its scale; `None` where the system is inconsistent or not finite.
 fn solve_least_norm(g: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVector<f64>> {
+    solve_least_norm_and_say(g, rhs).0
+}
+
+/// [`solve_least_norm`], and whether `g`'s rows are dependent (an LU pivot below
+/// [`DEPENDENT`] of the largest: the least-norm solution is then one of many).
+fn solve_least_norm_and_say(g: &DMatrix<f64>, rhs: &DVector<f64>) -> (Option<DVector<f64>>, bool) {
     if rhs.is_empty() {
-        return Some(DVector::zeros(0));
+        return (Some(DVector::zeros(0)), false);
     }
     let accept = |x: DVector<f64>| {
         let residual = (g * &x - rhs).amax();
@@ -281,32 +287,28 @@ fn solve_least_norm(g: &DMatrix<f64>, rhs: &DVector<f64>) -> Option<DVector<f64>
     };
     let lu = g.clone().lu();
     let pivots = lu.u().diagonal().abs();
-    if !pivots.is_empty() && pivots.min() > DEPENDENT * pivots.max() {
+    let dependent = pivots.min() <= DEPENDENT * pivots.max();
+    if !dependent {
         if let Some(mut x) = lu.solve(rhs) {
             if let Some(correction) = lu.solve(&(rhs - g * &x)) {
                 x += correction;
             }
-            return accept(x);
+            return (accept(x), false);
         }
     }
     let svd = g.clone().svd(true, true);
     let largest = svd.singular_values.max();
     if !largest.is_finite() {
-        return None;
+        return (None, dependent);
     }
-    accept(svd.solve(rhs, 1e-12 * largest).ok()?)
+    (
+        svd.solve(rhs, 1e-12 * largest).ok().and_then(accept),
+        dependent,
+    )
 }
 
 /// LU pivots below this fraction of the largest: the rows are dependent.
 const DEPENDENT: f64 = 1e-10;
-
-/// Whether the square system `g` is singular to working precision, its rows dependent (the
-/// contacts statically indeterminate): an LU pivot below [`DEPENDENT`] of the largest, as
-/// [`solve_least_norm`] decides.
-fn dependent(g: &DMatrix<f64>) -> bool {
-    let pivots = g.clone().lu().u().diagonal().abs();
-    !pivots.is_empty() && pivots.min() <= DEPENDENT * pivots.max()
-}
 
 /// Why the contact problem with friction has no answer.
 fn paradox(set: ActiveSet) -> DynamicsError {
@@ -377,9 +379,6 @@ enum Role {
 struct ConeSolution {
     /// The normal accelerations and slip accelerations, row by row.
     accelerations: DVector<f64>,
-    /// The forces, row by row.
-    #[allow(dead_code)]
-    forces: DVector<f64>,
     /// The rows of each contact.
     contacts: Vec<cone::Contact>,
     /// The rounding of each row's acceleration.
@@ -631,9 +630,9 @@ impl Frame {
         // contact's cone where another choice does not: then the choice Coulomb's law with
         // every cone at once makes, if it holds every contact as `grips` says. (Where they are
         // not, the forces are unique, and one outside a cone is the stick's end.)
-        let x = match solve_least_norm(&g, &rhs) {
-            Some(x) if !dependent(&g) || self.within_cones(&x, grips, &stick) => x,
-            least => match self.redistributed(&g, &rhs, grips, &stick) {
+        let x = match solve_least_norm_and_say(&g, &rhs) {
+            (Some(x), dependent) if !dependent || self.within_cones(&x, grips, &stick) => x,
+            (least, _) => match self.redistributed(&g, &rhs, grips, &stick) {
                 Some(x) => x,
                 None => least.ok_or_else(|| paradox(set))?,
             },
@@ -1232,7 +1231,7 @@ impl Frame {
     /// ([`crate::cone`]), each in its [`Role`]: with a cone (its one or two slip components in
     /// the model's terms, the coefficient given, then the kinetic one where it slips and that is
     /// lower), slipping on with its kinetic force in its normal column, or without friction.
-    /// The accelerations, the forces, the problem's layout and each row's rounding.
+    /// The accelerations, the problem's layout and each row's rounding.
     fn cone_accelerations(
         &self,
         set: ActiveSet,
@@ -1339,7 +1338,6 @@ impl Frame {
                 let rounds = (0..size).map(rounding).collect();
                 return Ok(ConeSolution {
                     accelerations,
-                    forces,
                     contacts,
                     rounds,
                 });
