@@ -375,13 +375,15 @@ enum Role {
     Normal,
 }
 
-/// What [`Frame::cone_accelerations`] found.
+/// What [`Frame::solve_cones`] found.
 struct ConeSolution {
-    /// The normal accelerations and slip accelerations, row by row.
-    accelerations: DVector<f64>,
-    /// The rows of each contact.
+    /// The forces or impulses `P`, row by row.
+    solution: DVector<f64>,
+    /// `q + W P`: the normal and slip accelerations (or velocities after an impact).
+    rows: DVector<f64>,
+    /// The rows of each contact, with the coefficient it was last solved with.
     contacts: Vec<cone::Contact>,
-    /// The rounding of each row's acceleration.
+    /// The rounding of each of `rows`.
     rounds: Vec<f64>,
 }
 
@@ -866,9 +868,7 @@ impl Frame {
         let mut frame = self.clone();
         for &p in moving {
             let c = solution.contacts[p];
-            let slip = solution
-                .accelerations
-                .rows_range(c.start + 1..=c.start + c.tangents);
+            let slip = solution.rows.rows_range(c.start + 1..=c.start + c.tangents);
             if c.tangents == 2 && slip.norm() > 0.0 {
                 if let Some(t) = frame.tangents[p].as_mut() {
                     t.rotate([slip[0], slip[1]]);
@@ -1195,7 +1195,7 @@ impl Frame {
             })
             .collect();
         let solution = self.cone_accelerations(set, &roles)?;
-        let (accelerations, rounds) = (&solution.accelerations, &solution.rounds);
+        let (accelerations, rounds) = (&solution.rows, &solution.rounds);
         let mut held = ActiveSet::empty();
         let mut grips = Grips::none();
         for (p, c) in solution.contacts.iter().enumerate() {
@@ -1298,6 +1298,24 @@ impl Frame {
         debug_assert!(columns.iter().all(|c| c.len() == n));
         let size = rows.len();
         let w = DMatrix::from_fn(size, size, |r, c| dot(rows[r], &columns[c]));
+        self.solve_cones(set, &w, &q, &round_off, contacts)
+    }
+
+    /// Coulomb's law with isotropic cones ([`crate::cone`]) on the rows of `w` with right-hand
+    /// sides `q` (each within its `round_off` taken as 0) and `contacts` with their first
+    /// coefficients: a contact that then slips (beyond the rounding of its rows) under a normal
+    /// force, with a kinetic coefficient below its cone's, is solved again with the kinetic one,
+    /// until none is. The solution, `q + W P`, each row's rounding and the contacts as last
+    /// solved.
+    fn solve_cones(
+        &self,
+        set: ActiveSet,
+        w: &DMatrix<f64>,
+        q: &[f64],
+        round_off: &[f64],
+        mut contacts: Vec<cone::Contact>,
+    ) -> Result<ConeSolution, DynamicsError> {
+        let size = q.len();
         let q = DVector::from_fn(size, |r, _| {
             if q[r].abs() <= round_off[r] {
                 0.0
@@ -1305,29 +1323,29 @@ impl Frame {
                 q[r]
             }
         });
-        for _ in 0..=k {
-            let forces = cone::solve(&w, &q, &contacts).map_err(|error| match error {
+        for _ in 0..=contacts.len() {
+            let solution = cone::solve(w, &q, &contacts).map_err(|error| match error {
                 cone::ConeError::NonFinite => DynamicsError::NonFinite,
                 cone::ConeError::NoConvergence { .. } => {
                     DynamicsError::SpatialFriction { constraints: set }
                 }
             })?;
-            let accelerations = &q + &w * &forces;
+            let rows = &q + w * &solution;
             let rounding = |r: usize| {
                 round_off[r]
                     + ROUND_OFF
                         * (0..size)
-                            .map(|c| (w[(r, c)] * forces[c]).abs())
+                            .map(|c| (w[(r, c)] * solution[c]).abs())
                             .sum::<f64>()
             };
             let mut changed = false;
             for (p, c) in contacts.iter_mut().enumerate() {
                 let Some(t) = &self.tangents[p] else { continue };
-                let slip = accelerations.rows_range(c.start + 1..=c.start + c.tangents);
+                let slip = rows.rows_range(c.start + 1..=c.start + c.tangents);
                 let round: f64 = (c.start + 1..=c.start + c.tangents).map(rounding).sum();
                 if c.tangents > 0
                     && c.mu > t.mu_kinetic
-                    && forces[c.start] > 0.0
+                    && solution[c.start] > 0.0
                     && slip.norm() > round
                 {
                     c.mu = t.mu_kinetic;
@@ -1337,7 +1355,8 @@ impl Frame {
             if !changed {
                 let rounds = (0..size).map(rounding).collect();
                 return Ok(ConeSolution {
-                    accelerations,
+                    solution,
+                    rows,
                     contacts,
                     rounds,
                 });
@@ -1656,61 +1675,29 @@ impl Frame {
         }
         let size = rows.len();
         let w = DMatrix::from_fn(size, size, |r, c| dot(rows[r].0, rows[c].1));
-        // Each right-hand side within the rounding of what it is made of is 0.
-        let q = DVector::from_fn(size, |r, _| {
-            if q[r].abs() <= round_off[r] {
-                0.0
-            } else {
-                q[r]
+        let cones = self.solve_cones(set, &w, &q, &round_off, contacts)?;
+        let impulses = &cones.solution;
+        for (r, &(_, direction)) in rows.iter().enumerate() {
+            for (v, d) in q_dot.iter_mut().zip(direction) {
+                *v += impulses[r] * d;
             }
-        });
-        let before = q_dot.to_vec();
-        for _ in 0..=k {
-            let impulses = cone::solve(&w, &q, &contacts).map_err(|error| match error {
-                cone::ConeError::NonFinite => DynamicsError::NonFinite,
-                cone::ConeError::NoConvergence { .. } => {
-                    DynamicsError::SpatialFriction { constraints: set }
-                }
-            })?;
-            let velocities = &q + &w * &impulses;
-            // Contacts that slide at the static coefficient, with a kinetic one below it.
-            let mut changed = false;
-            for (p, c) in contacts.iter_mut().enumerate() {
-                let Some(t) = &self.tangents[p] else { continue };
-                let slip = velocities.rows_range(c.start + 1..=c.start + c.tangents);
-                let scale: f64 = t.components_slips().map(|s| s.scale).sum();
-                if c.mu > t.mu_kinetic && slip.norm() > ROUND_OFF * scale && impulses[c.start] > 0.0
-                {
-                    c.mu = t.mu_kinetic;
-                    changed = true;
-                }
-            }
-            if changed {
-                continue;
-            }
-            q_dot.copy_from_slice(&before);
-            for (r, &(_, direction)) in rows.iter().enumerate() {
-                for (v, d) in q_dot.iter_mut().zip(direction) {
-                    *v += impulses[r] * d;
-                }
-            }
-            if !q_dot.iter().all(|v| v.is_finite()) {
-                return Err(DynamicsError::NonFinite);
-            }
-            let normal: Vec<f64> = contacts.iter().map(|c| impulses[c.start]).collect();
-            let tangent: Vec<[f64; 2]> = contacts
-                .iter()
-                .map(|c| {
-                    let mut out = [0.0; 2];
-                    for a in 0..c.tangents {
-                        out[a] = impulses[c.start + 1 + a];
-                    }
-                    out
-                })
-                .collect();
-            return Ok((normal, tangent));
         }
-        Err(DynamicsError::SpatialFriction { constraints: set })
+        if !q_dot.iter().all(|v| v.is_finite()) {
+            return Err(DynamicsError::NonFinite);
+        }
+        let normal: Vec<f64> = cones.contacts.iter().map(|c| impulses[c.start]).collect();
+        let tangent: Vec<[f64; 2]> = cones
+            .contacts
+            .iter()
+            .map(|c| {
+                let mut out = [0.0; 2];
+                for a in 0..c.tangents {
+                    out[a] = impulses[c.start + 1 + a];
+                }
+                out
+            })
+            .collect();
+        Ok((normal, tangent))
     }
 
     /// The impact law with friction for the restitutions `e`, each contact approaching at the
