@@ -291,7 +291,7 @@ fn limits_can_be_set_on_the_command_line() {
         "{message}"
     );
     assert!(
-        message.contains("--max-events N, or max_events"),
+        message.contains("--max-events N; a model file's max_events may only lower the limit"),
         "{message}"
     );
     assert_eq!(summary["events"].as_array().unwrap().len(), 5);

@@ -878,3 +878,32 @@ fn summary_json_is_bounded_by_the_output_cap() {
     assert!(whole.get("truncated").is_none());
     assert_eq!(whole["events"].as_array().unwrap().len(), all);
 }
+
+/// A model file raised the limits that bound a run's memory: two elastic walls 1e-9 apart
+/// with `max_events = max_steps = 100000000` in `[simulation]` held every event (Python died
+/// when memory ran out). A file may lower the limits, never raise them past the defaults;
+/// the command line raises them.
+#[test]
+fn a_model_file_cannot_raise_the_limits() {
+    let scratch = Scratch::new(
+        "name = \"walls\"\ncoordinates = [\"x\"]\nlagrangian = \"0.5*x_dot^2\"\n\
+         [[constraint]]\nname = \"left\"\nh = \"x\"\nrestitution = 1.0\n\
+         [[constraint]]\nname = \"right\"\nh = \"1e-9 - x\"\nrestitution = 1.0\n\
+         [initial]\nx = 5e-10\nx_dot = 1.0\n\
+         [simulation]\nt_end = 1.0\nmax_events = 100000000\nmax_steps = 100000000\n",
+    );
+    let output = scratch.run(&[]);
+    assert_exit(&output, 1);
+    let summary = summary(&scratch.path("out"));
+    let message = summary["message"].as_str().unwrap();
+    assert!(message.contains("the limit of 100000 events"), "{message}");
+    assert!(message.contains("may only lower the limit"), "{message}");
+    // The command line raises it (and a file's lower value stands).
+    let output = scratch.run(&["--max-events", "150000"]);
+    assert_exit(&output, 1);
+    let message = common::summary(&scratch.path("out"))["message"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    assert!(message.contains("the limit of 150000 events"), "{message}");
+}

@@ -66,9 +66,9 @@ pub struct Settings {
     pub dt: Option<f64>,
     /// `max_step` (default: none).
     pub max_step: f64,
-    /// `max_events` (default 100 000).
+    /// `max_events` (default 100 000; a file may lower it, not raise it: [`ModelFile::options`]).
     pub max_events: u64,
-    /// `max_steps` (default 10 000 000).
+    /// `max_steps` (default 10 000 000; a file may lower it, not raise it).
     pub max_steps: u64,
 }
 
@@ -89,8 +89,13 @@ impl Default for Settings {
 }
 
 impl Settings {
-    /// The engine's options for these settings, with the default completion map.
+    /// The engine's options for these settings, with the default completion map. The limits
+    /// that bound a run's time and memory (`max_events`, `max_steps`) may be lowered by the
+    /// file, never raised past the engine's defaults: only the caller raises them
+    /// (`--max-events`, `max_events=`), so that a model file cannot make a run hold more than
+    /// its caller allows.
     fn options(&self) -> SimulationOptions {
+        let defaults = SimulationOptions::default();
         SimulationOptions {
             t_end: self.t_end,
             tolerances: self.tolerances,
@@ -99,8 +104,8 @@ impl Settings {
             completion: Completion::Projection,
             output: self.dt.map_or(OutputGrid::Steps, OutputGrid::Uniform),
             max_step: self.max_step,
-            max_events: self.max_events,
-            max_steps: self.max_steps,
+            max_events: self.max_events.min(defaults.max_events),
+            max_steps: self.max_steps.min(defaults.max_steps),
         }
     }
 }

@@ -27,6 +27,8 @@ pub struct Settings {
     pub rtol: Option<f64>,
     pub atol: Option<f64>,
     pub dt: Option<f64>,
+    pub max_events: Option<u64>,
+    pub max_steps: Option<u64>,
 }
 
 impl Settings {
@@ -47,6 +49,12 @@ impl Settings {
         }
         if let Some(dt) = self.dt {
             options.output = OutputGrid::Uniform(dt);
+        }
+        if let Some(max_events) = self.max_events {
+            options.max_events = max_events;
+        }
+        if let Some(max_steps) = self.max_steps {
+            options.max_steps = max_steps;
         }
         options
     }
@@ -122,10 +130,20 @@ struct Recorder {
     mode: Vec<u32>,
     modes: Vec<(Mode, Grips)>,
     watch: Watch,
+    /// The bytes the record may take (`max_output`), and what it takes so far.
+    cap: u64,
+    used: u64,
 }
 
+/// What a run's record may take by default, as the command line's `--max-output`: 1 GiB.
+const MAX_OUTPUT: u64 = 1 << 30;
+
+/// What an event takes in the record, besides its two states (an estimate that errs high: its
+/// entry in `Run.events` is built from it).
+const EVENT_BYTES: u64 = 512;
+
 impl Recorder {
-    fn new() -> Self {
+    fn new(cap: u64) -> Self {
         Self {
             t: Vec::new(),
             q: Vec::new(),
@@ -139,12 +157,22 @@ impl Recorder {
             mode: Vec::new(),
             modes: Vec::new(),
             watch: Watch::new(),
+            cap,
+            used: 0,
         }
+    }
+
+    /// Whether the record reached its cap: the run then stops at its next step.
+    fn full(&self) -> bool {
+        self.used > self.cap
     }
 }
 
 impl Observer for Recorder {
     fn sample(&mut self, s: &Sample<'_>) {
+        let numbers = 2 + 2 * s.q.len() + 2 * s.h.len() + s.friction.len();
+        let numbers = numbers + s.friction_across.len() + BALANCE.len();
+        self.used += 8 * numbers as u64 + 4;
         self.t.push(s.t);
         self.q.extend_from_slice(s.q);
         self.q_dot.extend_from_slice(s.q_dot);
@@ -167,8 +195,12 @@ impl Observer for Recorder {
         self.mode.push(index as u32);
     }
 
+    fn event(&mut self, event: &zenosim::Event) {
+        self.used += EVENT_BYTES + 16 * (event.before.q.len() + event.after.q.len()) as u64;
+    }
+
     fn interrupted(&mut self) -> bool {
-        self.watch.interrupted()
+        self.full() || self.watch.interrupted()
     }
 }
 
@@ -259,7 +291,7 @@ pub fn json_value<T: serde::Serialize>(py: Python<'_>, value: &T) -> PyResult<Py
 
 /// Runs `model` (a `Model` or a path) once, keeping its trajectory.
 #[pyfunction]
-#[pyo3(signature = (model, *, t_end=None, zeno=None, rtol=None, atol=None, dt=None, set=None))]
+#[pyo3(signature = (model, *, t_end=None, zeno=None, rtol=None, atol=None, dt=None, set=None, max_events=None, max_steps=None, max_output=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn run(
     py: Python<'_>,
@@ -270,6 +302,9 @@ pub fn run(
     atol: Option<f64>,
     dt: Option<f64>,
     set: Option<&Bound<'_, PyAny>>,
+    max_events: Option<&Bound<'_, PyAny>>,
+    max_steps: Option<&Bound<'_, PyAny>>,
+    max_output: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Run> {
     let settings = Settings {
         t_end,
@@ -277,7 +312,10 @@ pub fn run(
         rtol,
         atol,
         dt,
+        max_events: count_arg("max_events", max_events)?,
+        max_steps: count_arg("max_steps", max_steps)?,
     };
+    let cap = count_arg("max_output", max_output)?.unwrap_or(MAX_OUTPUT);
     let loaded = Loaded::new(py, model, &overrides(set)?)?;
     let file = loaded.file();
     let options = settings.options(file);
@@ -286,7 +324,7 @@ pub fn run(
         catch_unwind(AssertUnwindSafe(|| {
             let simulation =
                 Simulation::new(&file.model, &file.initial.q, &file.initial.q_dot, options)?;
-            let mut recorder = Recorder::new();
+            let mut recorder = Recorder::new(cap);
             let execution = simulation.run(&mut recorder);
             Ok::<_, zenosim::Error>((execution, recorder))
         }))
@@ -304,7 +342,38 @@ pub fn run(
     if let Some(interrupt) = recorder.watch.take() {
         return Err(interrupt);
     }
-    record(py, file, &options, &execution, recorder, constraints)
+    let capped = recorder.full().then_some(cap);
+    record(
+        py,
+        file,
+        &options,
+        &execution,
+        recorder,
+        constraints,
+        capped,
+    )
+}
+
+/// A positive whole number given for `name` (`None`: the default): refused, naming the
+/// argument, where it is not one (a bool, a float, 0 or less).
+fn count_arg(name: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<u64>> {
+    let Some(value) = value.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    if value.is_instance_of::<pyo3::types::PyBool>()
+        || !value.is_instance_of::<pyo3::types::PyInt>()
+    {
+        return Err(PyTypeError::new_err(format!(
+            "{name} must be a whole number (an int), not {}",
+            type_name(value)
+        )));
+    }
+    match value.extract::<u64>() {
+        Ok(n) if n > 0 => Ok(Some(n)),
+        _ => Err(PyValueError::new_err(format!(
+            "{name} must be a whole number > 0 (at most 2**64 - 1), not {value}"
+        ))),
+    }
 }
 
 /// The name of the model a call was given, for messages.
@@ -315,6 +384,8 @@ fn model_name(model: &Bound<'_, PyAny>) -> String {
     }
 }
 
+/// The `Run` of `execution` from what `recorder` kept; `capped` where the record reached its
+/// cap (the run then stopped as if interrupted: it is a failure, and says so).
 fn record(
     py: Python<'_>,
     file: &ModelFile,
@@ -322,6 +393,7 @@ fn record(
     execution: &Execution,
     recorder: Recorder,
     constraints: Vec<String>,
+    capped: Option<u64>,
 ) -> PyResult<Run> {
     let n = file.model.dimension();
     let m = constraints.len();
@@ -359,7 +431,15 @@ fn record(
             .collect();
         balance.set_item(name, PyArray1::from_vec(py, column))?;
     }
-    let message = zenosim_runs::message::message(execution, &constraints);
+    let message = match capped {
+        None => zenosim_runs::message::message(execution, &constraints),
+        Some(cap) => format!(
+            "failed: at t = {}: the run's record reached max_output = {cap} bytes, which stopped \
+             the run; its rows and events up to there are kept; raise max_output, or keep fewer \
+             rows: a coarser dt or an earlier t_end",
+            zenosim_runs::number::number(execution.t_final)
+        ),
+    };
     let summary = Record {
         file,
         options,
@@ -373,7 +453,11 @@ fn record(
     }
     .summary();
     Ok(Run {
-        status: summary.status.to_string(),
+        status: if capped.is_some() {
+            "failed".to_string()
+        } else {
+            summary.status.to_string()
+        },
         message,
         t: PyArray1::from_vec(py, recorder.t).into_any().unbind(),
         q: matrix(recorder.q, n)?,

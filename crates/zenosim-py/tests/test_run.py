@@ -213,3 +213,50 @@ def test_the_belts_friction_is_within_its_cones():
     assert stick.any() and slip.any()
     assert (np.abs(f[stick]) <= 0.6 * 9.81 * (1 + 1e-12)).all()
     np.testing.assert_allclose(np.abs(f[slip]), 0.4 * 9.81, rtol=1e-9)
+
+
+def test_a_model_file_cannot_raise_the_limits_that_bound_memory(tmp_path):
+    # Two walls 1e-9 apart, elastic, with max_events = max_steps = 10**8 in the file: the run
+    # held every event until memory ran out and the interpreter died (SIGABRT). The file may
+    # lower the limits, never raise them: the default 100 000 events stop it, as a failure.
+    model = tmp_path / "walls.toml"
+    model.write_text(
+        'name = "walls"\ncoordinates = ["x"]\nlagrangian = "0.5*x_dot^2"\n'
+        '[[constraint]]\nname = "left"\nh = "x"\nrestitution = 1.0\n'
+        '[[constraint]]\nname = "right"\nh = "1e-9 - x"\nrestitution = 1.0\n'
+        '[initial]\nx = 5e-10\nx_dot = 1.0\n'
+        "[simulation]\nt_end = 1.0\nmax_events = 100000000\nmax_steps = 100000000\n"
+    )
+    run = zenosim.run(model)
+    assert run.status == "failed"
+    assert "100000 events" in run.message
+    assert len(run.events) == 100000
+    # The caller may lower them, and raise them.
+    run = zenosim.run(model, max_events=50)
+    assert run.status == "failed" and len(run.events) == 50
+
+
+def test_max_output_bounds_the_record(tmp_path):
+    model = tmp_path / "ball.toml"
+    model.write_text(MODELS.joinpath("bouncing-ball.toml").read_text())
+    run = zenosim.run(model, dt=1e-5, t_end=10.0, max_output=1_000_000)
+    assert run.status == "failed"
+    assert "max_output = 1000000 bytes" in run.message
+    assert 0 < len(run.t) < 20_000
+    assert run.t[-1] < 10.0
+    whole = zenosim.run(model, dt=1e-3, t_end=1.0)
+    assert whole.status == "finished"
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, words",
+    [
+        (dict(max_events=0), ValueError, "max_events must be a whole number > 0"),
+        (dict(max_steps=-3), ValueError, "max_steps must be a whole number > 0"),
+        (dict(max_output=1.5), TypeError, "max_output must be a whole number"),
+        (dict(max_events=True), TypeError, "max_events must be a whole number"),
+    ],
+)
+def test_bad_limits_are_clear_errors(kwargs, error, words):
+    with pytest.raises(error, match=words):
+        zenosim.run(MODELS / "bouncing-ball.toml", **kwargs)

@@ -76,11 +76,12 @@ pub fn output_cap(run: &Execution, file: &str, cap: &str) -> String {
     )
 }
 
-/// Why a run failed, saying how to raise a limit (on the command line or in the file).
+/// Why a run failed, saying how to raise a limit (on the command line: a model file's
+/// `[simulation]` may lower a limit, never raise it past the default).
 pub fn failure(error: &Error) -> String {
     match error {
         Error::Limit { what, .. } => {
-            format!("{error} (--max-{what} N, or max_{what} in the file's [simulation])")
+            format!("{error} (--max-{what} N; a model file's max_{what} may only lower the limit)")
         }
         _ => error.to_string(),
     }

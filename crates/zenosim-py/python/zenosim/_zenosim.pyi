@@ -168,6 +168,9 @@ def run(
     atol: float | None = None,
     dt: float | None = None,
     set: Mapping[str, _Value] | None = None,
+    max_events: int | None = None,
+    max_steps: int | None = None,
+    max_output: int | None = None,
 ) -> Run:
     """Runs ``model`` (a :class:`Model` or the path of a model file) once, keeping its
     trajectory.
@@ -177,6 +180,12 @@ def run(
     (stop there) or a number ε (the paper's rule ``|h| ≤ ε, |ḣ| ≤ ε``); the tolerances ``rtol``
     and ``atol``; ``dt``, rows every ``dt`` on a uniform grid instead of at every step. ``set``
     changes parameters or initial values: numbers, or formulas as the file writes them.
+
+    The limits: ``max_events`` (100 000 by default) and ``max_steps`` (10⁷), which the model
+    file's ``[simulation]`` may lower but never raise, so that a file cannot make a run hold
+    more than its caller allows; ``max_output``, the bytes the record may take (1 GiB, as the
+    command line's ``--max-output``). A run that reaches one stops with ``status`` ``"failed"``,
+    keeping what it computed, and its ``message`` says which and what to do.
 
     The GIL is released while simulating. Ctrl-C raises ``KeyboardInterrupt`` within about
     50 ms. A run that fails is no exception: its ``status`` says so. Raises :class:`ModelError`
