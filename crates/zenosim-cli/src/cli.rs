@@ -262,9 +262,10 @@ pub struct BenchArgs {
           allow_negative_numbers = true, value_parser = positive)]
     pub tolerances: Option<Vec<f64>>,
 
-    /// Repeat each run until this many seconds have passed (it runs 3 times at least).
+    /// Repeat each run until this many seconds have passed (it runs 3 times at least; at most
+    /// a day).
     #[arg(long, value_name = "SECONDS", default_value_t = 0.5, allow_negative_numbers = true,
-          value_parser = non_negative)]
+          value_parser = seconds)]
     pub min_time: f64,
 
     /// Bounds on the model file's formulas.
@@ -668,6 +669,15 @@ fn non_negative(text: &str) -> Result<f64, String> {
         Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
         Ok(_) => Err("must be a finite number ≥ 0".to_string()),
         Err(_) => Err("not a number: write e.g. 0.5 or 2".to_string()),
+    }
+}
+
+/// A duration in seconds, from 0 to a day (`bench --min-time 1e20` overflowed the clock's
+/// type and panicked).
+fn seconds(text: &str) -> Result<f64, String> {
+    match non_negative(text)? {
+        x if x <= 86_400.0 => Ok(x),
+        _ => Err("at most 86400 (a day): write e.g. 0.5 or 10".to_string()),
     }
 }
 

@@ -104,11 +104,14 @@ fn bad_arguments_and_models_exit_2_with_nothing_on_stdout() {
         &["bench", "model.toml", "--tolerances", "0"][..],
         &["bench", "model.toml", "--tolerances", "1e-6,x"],
         &["bench", "model.toml", "--min-time", "-1"],
+        // Regression: a duration past the clock's type panicked.
+        &["bench", "model.toml", "--min-time", "1e20"],
         &["bench", "missing.toml"],
     ] {
         let output = scratch.zenosim(args);
         assert_exit(&output, 2);
         assert!(stdout(&output).is_empty(), "{args:?}");
+        assert!(!stderr(&output).contains("panicked"), "{args:?}");
     }
 }
 

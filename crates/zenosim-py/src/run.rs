@@ -296,22 +296,22 @@ pub fn json_value<T: serde::Serialize>(py: Python<'_>, value: &T) -> PyResult<Py
 pub fn run(
     py: Python<'_>,
     model: &Bound<'_, PyAny>,
-    t_end: Option<f64>,
+    t_end: Option<&Bound<'_, PyAny>>,
     zeno: Option<&Bound<'_, PyAny>>,
-    rtol: Option<f64>,
-    atol: Option<f64>,
-    dt: Option<f64>,
+    rtol: Option<&Bound<'_, PyAny>>,
+    atol: Option<&Bound<'_, PyAny>>,
+    dt: Option<&Bound<'_, PyAny>>,
     set: Option<&Bound<'_, PyAny>>,
     max_events: Option<&Bound<'_, PyAny>>,
     max_steps: Option<&Bound<'_, PyAny>>,
     max_output: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Run> {
     let settings = Settings {
-        t_end,
+        t_end: real_arg("t_end", t_end)?,
         zeno: zeno_arg(zeno)?,
-        rtol,
-        atol,
-        dt,
+        rtol: real_arg("rtol", rtol)?,
+        atol: real_arg("atol", atol)?,
+        dt: real_arg("dt", dt)?,
         max_events: count_arg("max_events", max_events)?,
         max_steps: count_arg("max_steps", max_steps)?,
     };
@@ -352,6 +352,22 @@ pub fn run(
         constraints,
         capped,
     )
+}
+
+/// A number given for `name` (`None`: the model file's): an int or a float, not a bool
+/// (`t_end=True` was taken as 1.0) nor anything else; its range is the options' check.
+pub fn real_arg(name: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<f64>> {
+    let Some(value) = value.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    if value.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(PyTypeError::new_err(format!(
+            "{name} must be a number, not a bool"
+        )));
+    }
+    value.extract::<f64>().map(Some).map_err(|_| {
+        PyTypeError::new_err(format!("{name} must be a number, not {}", type_name(value)))
+    })
 }
 
 /// A positive whole number given for `name` (`None`: the default): refused, naming the

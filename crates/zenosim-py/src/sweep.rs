@@ -14,7 +14,7 @@ use zenosim_runs::sweep::{Axis, Combine, Points, Row, RunSettings, Shard, Sweep,
 use crate::errors::{model_error, panicked};
 use crate::interrupt::POLL;
 use crate::model::{read_file, type_name, Model};
-use crate::run::zeno_arg;
+use crate::run::{real_arg, zeno_arg};
 
 /// The axes of `values`: a mapping of names to sequences of numbers.
 fn axes(values: &Bound<'_, PyAny>) -> PyResult<Vec<Axis>> {
@@ -123,18 +123,18 @@ pub fn sweep<'py>(
     py: Python<'py>,
     model: &Bound<'py, PyAny>,
     values: &Bound<'py, PyAny>,
-    t_end: Option<f64>,
+    t_end: Option<&Bound<'py, PyAny>>,
     zeno: Option<&Bound<'py, PyAny>>,
-    rtol: Option<f64>,
-    atol: Option<f64>,
+    rtol: Option<&Bound<'py, PyAny>>,
+    atol: Option<&Bound<'py, PyAny>>,
     product: bool,
     workers: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let settings = RunSettings {
-        t_end,
+        t_end: real_arg("t_end", t_end)?,
         zeno: zeno_arg(zeno)?,
-        rtol,
-        atol,
+        rtol: real_arg("rtol", rtol)?,
+        atol: real_arg("atol", atol)?,
     };
     let workers = match workers.filter(|w| !w.is_none()) {
         None => None,

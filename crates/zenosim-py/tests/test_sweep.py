@@ -175,3 +175,21 @@ def test_a_varied_name_that_is_also_a_result_column_is_refused(tmp_path):
     model.write_text(BALL.read_text().replace("h0 = 1.0", "h0 = 1.0\nstatus = 2.0"))
     with pytest.raises(ValueError, match="`status` is varied, but the sweep's table also has"):
         zenosim.sweep(model, {"status": [1.0, 2.0]})
+
+
+def test_a_million_workers_are_refused_at_once():
+    # sweep(workers=10**6) spent 22 s starting threads before the system refused.
+    with pytest.raises(ValueError, match="more than the 1024 threads a sweep starts"):
+        zenosim.sweep(BALL, {"e": [0.5, 0.6]}, workers=10**6)
+    # More workers than points start only as many threads as there are points.
+    table = zenosim.sweep(BALL, {"e": [0.5, 0.6]}, workers=1000)
+    assert list(table["status"]) == ["finished", "finished"]
+
+
+@pytest.mark.parametrize("name", ["t_end", "rtol", "atol"])
+def test_a_bool_is_not_a_number(name):
+    # t_end=True was taken as 1.0.
+    with pytest.raises(TypeError, match=f"{name} must be a number, not a bool"):
+        zenosim.sweep(BALL, {"e": [0.5]}, **{name: True})
+    with pytest.raises(TypeError, match=f"{name} must be a number, not a bool"):
+        zenosim.run(BALL, **{name: True})

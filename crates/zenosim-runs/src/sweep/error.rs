@@ -116,6 +116,17 @@ pub enum SweepError {
     /// A thread count of 0.
     #[error("workers must be at least 1 (or unset: one per core)")]
     NoWorkers,
+    /// More worker threads than a sweep starts.
+    #[error(
+        "{workers} workers is more than the {max} threads a sweep starts: give at most {max} \
+         (or leave workers unset: one per core)"
+    )]
+    TooManyWorkers {
+        /// How many were asked for.
+        workers: usize,
+        /// [`super::MAX_WORKERS`].
+        max: usize,
+    },
     /// The worker threads could not be started.
     #[error("cannot start {workers} worker threads: {reason}")]
     ThreadPool {

@@ -112,6 +112,10 @@ fn result_columns(coordinates: &[String], velocities: &[String]) -> Vec<String> 
     .collect()
 }
 
+/// The most worker threads a sweep starts: each holds a stack, and starting a million of them
+/// took 22 s before the system refused.
+pub const MAX_WORKERS: usize = 1024;
+
 impl Sweep {
     /// A sweep of the model file `source` (named `file` in messages, formulas bounded by
     /// `limits`) over `points`, every run with the file's settings changed by `settings`.
@@ -361,8 +365,15 @@ impl Sweep {
         let rows = match workers {
             None => work(),
             Some(0) => return Err(SweepError::NoWorkers),
+            Some(workers) if workers > MAX_WORKERS => {
+                return Err(SweepError::TooManyWorkers {
+                    workers,
+                    max: MAX_WORKERS,
+                })
+            }
+            // No more threads than points: the others would have nothing to do.
             Some(workers) => rayon::ThreadPoolBuilder::new()
-                .num_threads(workers)
+                .num_threads(workers.min(total.max(1)))
                 .build()
                 .map_err(|error| SweepError::ThreadPool {
                     workers,
