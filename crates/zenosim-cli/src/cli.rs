@@ -503,6 +503,10 @@ pub struct ReportArgs {
     /// The output directory of a run (`zenosim run --out DIR`, by default out/<model name>).
     #[arg(value_name = "DIR")]
     pub dir: PathBuf,
+
+    /// Bounds on the model file's formulas (its drawing is read again).
+    #[command(flatten)]
+    pub formulas: FormulaLimits,
 }
 
 /// `zenosim plot`.

@@ -188,7 +188,7 @@ pub fn run(args: &RunArgs) -> Result<u8, Failure> {
     };
     // The report, from the same files, exactly as `zenosim report` writes it.
     let report_file = if args.report {
-        report::write(&dir).map(Some)
+        report::write(&dir, args.formulas.limits()).map(Some)
     } else {
         Ok(None)
     };

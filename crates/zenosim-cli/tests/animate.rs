@@ -277,3 +277,18 @@ fn a_drawing_too_large_to_animate_is_refused() {
     assert!(err.contains("lower --max-frames"), "{err}");
     assert!(!scratch.path("a.gif").exists());
 }
+
+/// `animate --speed 1e-20` asked for more frames than a number of frames can count: the count
+/// wrapped to none, and the failure blamed trajectory.csv. A speed that slow is capped by
+/// `--max-frames` like any other, and says so.
+#[test]
+fn a_speed_too_slow_to_count_its_frames_is_capped() {
+    let scratch = Scratch::new(&bouncing_ball());
+    let out = run_and_animate(
+        &scratch,
+        &[],
+        &["--size", "320x240", "--max-frames", "3", "--speed", "1e-20"],
+    );
+    assert!(out.contains("--max-frames 3 caps it"), "{out}");
+    assert_eq!(decode(&scratch.path("ball.gif")).frames.len(), 3);
+}

@@ -494,3 +494,19 @@ fn a_state_that_is_not_finite_keeps_the_last_drawing() {
     let n = positions.len();
     assert_eq!(positions[n - 4..], positions[n - 8..n - 4]);
 }
+
+/// The report reads the model file again for its drawing: `zenosim report` had no
+/// `--max-derivative-operations`, and `run --report` read it within the default limits whatever
+/// the run was given. Both read it within the limits given now.
+#[test]
+fn the_report_reads_the_model_within_the_limits_it_is_given() {
+    let (scratch, output) = report_of(&drawn_ball(""), &[]);
+    assert_exit(&output, 0);
+    let output = scratch.zenosim(&["report", "out", "--max-derivative-operations", "1"]);
+    assert_exit(&output, 2);
+    let error = stderr(&output);
+    assert!(
+        error.contains("more than the limit of 1 operations"),
+        "{error}"
+    );
+}

@@ -75,14 +75,17 @@ pub fn animate(args: &AnimateArgs) -> Result<u8, Failure> {
     let duration = (end - start).max(0.0);
     let mut step = args.speed / fps;
     let max_frames = args.max_frames as usize;
-    // (3 s in steps of 0.02 is 150 steps, not the 149.99… that division rounds to.)
-    let mut count = (duration / step * (1.0 + 1e-12)).floor() as usize + 1;
-    let mut capped = false;
-    if count > max_frames {
+    // (3 s in steps of 0.02 is 150 steps, not the 149.99… that division rounds to.) Counted in
+    // floating point first: a tiny --speed makes more frames than a usize holds, which wrapped
+    // to none and was then blamed on trajectory.csv.
+    let steps = (duration / step * (1.0 + 1e-12)).floor();
+    let capped = !steps.is_finite() || steps + 1.0 > max_frames as f64;
+    let count = if capped {
         step = duration / (max_frames - 1) as f64;
-        count = max_frames;
-        capped = true;
-    }
+        max_frames
+    } else {
+        steps as usize + 1
+    };
     // Every frame's points are kept (to fix the box) and each costs an evaluation of the whole
     // drawing: bounded, so that a drawing of many points cannot take unbounded memory or time.
     let values = drawing.points().len() * drawing.dimension();

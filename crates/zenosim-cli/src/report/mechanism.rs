@@ -40,7 +40,11 @@ pub struct Drawn {
 /// `summary.json` gives them, so that `--set` is honoured); `Ok(Err(note))` when there is none
 /// to draw, the note saying how to get one. A model file that cannot be read, or that does
 /// not belong to the run, is an error.
-pub fn load(dir: &Path, record: &Record) -> anyhow::Result<Result<Drawing, String>> {
+pub fn load(
+    dir: &Path,
+    record: &Record,
+    limits: Limits,
+) -> anyhow::Result<Result<Drawing, String>> {
     let path = dir.join(MODEL);
     if !path.exists() {
         return Ok(Err(format!(
@@ -48,7 +52,7 @@ pub fn load(dir: &Path, record: &Record) -> anyhow::Result<Result<Drawing, Strin
              Run the model again with this version of zenosim to see it drawn."
         )));
     }
-    let file = crate::input::load_for_run(&path, record, Limits::default()).map_err(|error| {
+    let file = crate::input::load_for_run(&path, record, limits).map_err(|error| {
         anyhow!(
             "{error:#}; fix it, run the model again, or remove it to write the report without \
              the mechanism"

@@ -19,6 +19,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::anyhow;
 
+use zenosim_model::Limits;
+
 use crate::cli::ReportArgs;
 use crate::output::write_file;
 use crate::plot::record::Record;
@@ -32,16 +34,17 @@ pub const REPORT: &str = "report.html";
 
 /// `zenosim report DIR`.
 pub fn report(args: &ReportArgs) -> Result<u8, Failure> {
-    let path = write(&args.dir)?;
+    let path = write(&args.dir, args.formulas.limits())?;
     print_report(&format!("wrote {}\n", path.display()));
     Ok(EXIT_OK)
 }
 
-/// Writes the report of the run in `dir` (through a temporary file renamed once complete); its
-/// path. An unreadable run is a bad input; a file that cannot be written, an output failure.
-pub fn write(dir: &Path) -> Result<PathBuf, Failure> {
+/// Writes the report of the run in `dir` (through a temporary file renamed once complete), its
+/// model file read again within `limits`; its path. An unreadable run is a bad input; a file
+/// that cannot be written, an output failure.
+pub fn write(dir: &Path, limits: Limits) -> Result<PathBuf, Failure> {
     let record = Record::read(&dir.join(SUMMARY)).bad_input()?;
-    let drawing = mechanism::load(dir, &record).bad_input()?;
+    let drawing = mechanism::load(dir, &record, limits).bad_input()?;
     let (t_start, t_end) = record.time_span();
     let mut frames = frames::Frames::new(record.coordinates.len(), t_start, t_end);
     let trajectory = trajectory_file::read_with(
