@@ -1522,3 +1522,28 @@ fn png_series_were_drawn_outside_the_plot() {
     // Generous for a loaded machine: the release build takes about a second.
     assert!(seconds < 8.0, "{seconds} s");
 }
+
+/// A control character in a model's name or description (legal in a TOML string) made every
+/// SVG malformed XML. Characters XML 1.0 does not allow are drawn as U+FFFD now.
+#[test]
+fn control_characters_in_the_name_make_well_formed_svg() {
+    let source = BALL_ON_SINE
+        .replacen(
+            "name = \"ball-on-sine\"",
+            "name = \"ball\\u0007on\\u001bsine\"",
+            1,
+        )
+        .replacen(
+            "description = \"The paper's",
+            "description = \"\\u0007The paper's",
+            1,
+        );
+    assert!(source.contains("\\u0007"), "the model is changed");
+    let scratch = Scratch::new(&source);
+    let output = scratch.run(&["--plot"]);
+    assert_exit(&output, 0);
+    for plot in PLOTS {
+        let svg = text(&scratch.path("out").join(format!("{plot}.svg")));
+        Document::parse(&svg).unwrap_or_else(|e| panic!("{plot}.svg: {e}"));
+    }
+}

@@ -190,7 +190,9 @@ fn points(path: impl IntoIterator<Item = BackendCoord>) -> String {
     text
 }
 
-/// `text` with the characters XML reserves escaped.
+/// `text` with the characters XML reserves escaped, and those XML 1.0 does not allow at all
+/// (control characters but tab and line breaks, U+FFFE and U+FFFF: a model named with one made
+/// every plot malformed XML) replaced by U+FFFD.
 fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
@@ -200,6 +202,8 @@ fn escape(text: &str) -> String {
             '>' => out.push_str("&gt;"),
             '"' => out.push_str("&quot;"),
             '\'' => out.push_str("&apos;"),
+            '\t' | '\n' | '\r' => out.push(c),
+            c if c < ' ' || c == '\u{FFFE}' || c == '\u{FFFF}' => out.push('\u{FFFD}'),
             c => out.push(c),
         }
     }
