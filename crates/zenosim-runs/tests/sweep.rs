@@ -361,6 +361,8 @@ fn a_varied_name_that_is_also_a_result_column_is_refused() {
             "{name}: {error}"
         );
         let message = error.to_string();
+        // One sentence, no run of spaces from a broken line continuation.
+        assert!(!message.contains("  "), "{message}");
         assert!(
             message.contains(&format!("`{name}`"))
                 && message.contains("ball.toml")

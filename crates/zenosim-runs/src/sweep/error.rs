@@ -55,7 +55,9 @@ pub enum SweepError {
     },
     /// A varied name that is also the name of a column of results in the sweep's table.
     #[error(
-        "{file}: `{name}` is varied, but the sweep's table also has a column of results named          `{name}` ({columns}): its values and the results would share one column. Rename the          parameter or coordinate in the model file (e.g. to `{name}_`)"
+        "{file}: `{name}` is varied, but the sweep's table also has a column of results named \
+         `{name}` ({columns}): its values and the results would share one column. Rename the \
+         parameter or coordinate in the model file (e.g. to `{name}_`)"
     )]
     ColumnClash {
         /// The model file.
