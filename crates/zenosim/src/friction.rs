@@ -233,6 +233,31 @@ impl Tangent {
         }
     }
 
+    /// Each slip component in the model's terms (the one in a plane, the two in space, not
+    /// turned to the basis): its slip, `M⁻¹ Sᵀ`, `ṡ` under the free motion and its rounding.
+    fn component_parts(&self) -> Vec<(&Slip, &[f64], f64, f64)> {
+        match &self.space {
+            None => vec![(
+                &self.slip,
+                &self.direction,
+                self.s_dot_free,
+                self.s_dot_round_off,
+            )],
+            Some(space) => space
+                .parts
+                .iter()
+                .map(|part| {
+                    (
+                        &part.slip,
+                        part.direction.as_slice(),
+                        part.s_dot_free,
+                        part.s_dot_round_off,
+                    )
+                })
+                .collect(),
+        }
+    }
+
     /// The part along `basis` of a contact in space becomes the main one (nothing in a plane).
     fn rotate(&mut self, basis: [f64; 2]) {
         let Some(space) = &mut self.space else { return };
@@ -1256,22 +1281,7 @@ impl Frame {
             match (&self.tangents[p], role) {
                 (Some(t), Role::Cone(coefficient)) => {
                     mu = coefficient;
-                    let parts: Vec<(&Slip, &[f64], f64, f64)> = match &t.space {
-                        None => vec![(&t.slip, &t.direction, t.s_dot_free, t.s_dot_round_off)],
-                        Some(space) => space
-                            .parts
-                            .iter()
-                            .map(|part| {
-                                (
-                                    &part.slip,
-                                    part.direction.as_slice(),
-                                    part.s_dot_free,
-                                    part.s_dot_round_off,
-                                )
-                            })
-                            .collect(),
-                    };
-                    for (slip, direction, free, round) in parts {
+                    for (slip, direction, free, round) in t.component_parts() {
                         columns.push(column);
                         rows.push(&slip.row);
                         column = direction.to_vec();
@@ -1651,15 +1661,8 @@ impl Frame {
             let tangents = match &self.tangents[p] {
                 None => 0,
                 Some(t) => {
-                    let parts: Vec<(&Slip, &[f64])> = match &t.space {
-                        None => vec![(&t.slip, &t.direction)],
-                        Some(space) => space
-                            .parts
-                            .iter()
-                            .map(|part| (&part.slip, part.direction.as_slice()))
-                            .collect(),
-                    };
-                    for &(slip, direction) in &parts {
+                    let parts = t.component_parts();
+                    for &(slip, direction, _, _) in &parts {
                         rows.push((&slip.row, direction));
                         q.push(slip.s);
                         round_off.push(ROUND_OFF * slip.scale);
